@@ -1,0 +1,1 @@
+//! Control points as DH values and their Jacobians. (Being written.)

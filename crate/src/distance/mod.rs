@@ -1,0 +1,2 @@
+//! Distances between skeleton segments (and their volumes) and environment
+//! primitives. (Being written.)

@@ -1,0 +1,1 @@
+//! DH robots and forward kinematics. (Being written.)

@@ -1,0 +1,53 @@
+//! # skeleton-avoidance
+//!
+//! The *skeleton algorithm* of De Santis & Siciliano for fast whole-body
+//! collision avoidance of robot arms: a skeleton built from the DH table,
+//! closed-form distances from its segments to environment primitives, control
+//! points described by DH values with their Jacobians (`J_θ`, `J_a`, `J_d`),
+//! repulsion turned into joint velocities or torques, smooth control-point
+//! transitions, and a dependability monitor.
+//!
+//! ## Architecture
+//!
+//! The crate is a pure numerical core with two thin skins, and dependencies
+//! point one way: `wasm → render → core`.
+//!
+//! | module | what it holds | paper |
+//! |---|---|---|
+//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, forward kinematics, IK | §II, §III |
+//! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
+//! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives | §III-A, eq. 2–4 |
+//! | [`distance`] | primitives, closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
+//! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
+//! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground | — |
+//!
+//! One control step: forward kinematics (one pass over the chain, every frame
+//! and its velocity) → skeleton → distances from every segment to nearby
+//! obstacles → control points as DH values → their Jacobians, read from the
+//! same pass → repulsion and task → joint velocities or torques.
+//!
+//! ## Conventions
+//!
+//! SI units, radians, right-handed frames, z up. All numerics are `f64`
+//! (glam `DVec3`, `DMat3`, `DAffine3`). Standard DH is
+//! `A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)` (Siciliano & Sciavicco); modified DH
+//! is `A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i)` (Craig). Links and joints
+//! are numbered from 1, frame 0 is the base. Quaternions cross the JS boundary
+//! as `[x, y, z, w]`, matrices as arrays of rows.
+//!
+//! Every fallible function returns a typed error whose message names the field
+//! and the reason; nothing in the core panics on user input.
+
+pub mod control_point;
+pub mod distance;
+pub mod error;
+pub mod kinematics;
+pub mod rng;
+pub mod skeleton;
+
+#[cfg(all(target_arch = "wasm32", feature = "render"))]
+pub mod render;
+#[cfg(target_arch = "wasm32")]
+mod wasm;
+
+pub use error::FieldError;
