@@ -1,0 +1,75 @@
+// Static server for the playground: web/ at "/", the wasm package crate/pkg at
+// "/pkg/". No dependencies; used by `npm start` and by the browser tests.
+//
+//   node scripts/serve.mjs [--port 8080] [--host 127.0.0.1] [--root web]
+import http from 'node:http';
+import fs from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
+
+const TYPES = {
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript; charset=utf-8',
+  '.mjs': 'text/javascript; charset=utf-8',
+  '.css': 'text/css; charset=utf-8',
+  '.json': 'application/json; charset=utf-8',
+  '.wasm': 'application/wasm',
+  '.png': 'image/png',
+  '.svg': 'image/svg+xml',
+  '.md': 'text/plain; charset=utf-8',
+};
+
+/** Starts the server; resolves to `{ server, url }` once it listens. */
+export function serve({ port = 8080, host = '127.0.0.1', root = 'web' } = {}) {
+  const mounts = [
+    ['/pkg/', path.join(repo, 'crate', 'pkg')],
+    ['/', path.join(repo, root)],
+  ];
+  const server = http.createServer((req, res) => {
+    const url = new URL(req.url ?? '/', 'http://localhost');
+    let pathname = decodeURIComponent(url.pathname);
+    if (pathname.endsWith('/')) pathname += 'index.html';
+    for (const [prefix, dir] of mounts) {
+      if (!pathname.startsWith(prefix)) continue;
+      const file = path.join(dir, pathname.slice(prefix.length));
+      if (!file.startsWith(dir)) break; // no escaping the mount
+      fs.readFile(file, (err, data) => {
+        if (err) {
+          res.writeHead(404, { 'content-type': 'text/plain' });
+          res.end(`not found: ${pathname}\n`);
+          return;
+        }
+        res.writeHead(200, {
+          'content-type': TYPES[path.extname(file)] ?? 'application/octet-stream',
+          'cache-control': 'no-store',
+        });
+        res.end(data);
+      });
+      return;
+    }
+    res.writeHead(404, { 'content-type': 'text/plain' });
+    res.end(`not found: ${pathname}\n`);
+  });
+  return new Promise((resolve, reject) => {
+    server.once('error', reject);
+    server.listen(port, host, () => {
+      const { port: actual } = server.address();
+      resolve({ server, url: `http://${host}:${actual}/` });
+    });
+  });
+}
+
+if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.meta.url)) {
+  const arg = (name, fallback) => {
+    const i = process.argv.indexOf(`--${name}`);
+    return i > 0 ? process.argv[i + 1] : fallback;
+  };
+  const { url } = await serve({
+    port: Number(arg('port', process.env.PORT ?? 8080)),
+    host: arg('host', '127.0.0.1'),
+    root: arg('root', 'web'),
+  });
+  console.log(`Playground: ${url}  (Ctrl-C to stop)`);
+}
