@@ -1,1 +1,381 @@
-//! Control points as DH values and their Jacobians. (Being written.)
+//! Control points described by DH values, and their Jacobians (paper §III-A).
+//!
+//! A point on link `i` is written `(i, d', a')`: it is the end effector of the
+//! "shorter manipulator" obtained by cutting the chain after row `i` and
+//! replacing that row's `d_i` by `d'` and `a_i` by `a'` (rows after `i` zeroed).
+//! In the standard convention the point is `o_{i-1} + d' z_{i-1} + a' x_i`; in
+//! the modified one `o_{i-1} + a' x_{i-1} + d' z_i`. Points on the link's spine
+//! have `a' = 0` while `d'` runs over `[0, d_i]`, then `d' = d_i` while `a'`
+//! runs over `[0, a_i]` (standard; the modified convention runs `a` first).
+//! An extension behind the joint has `a' < 0`.
+//!
+//! Its velocity is eq. 3 of the paper,
+//! `ṗ = J_θ θ̇ + J_a ȧ + J_d ḋ`,
+//! where `J_θ` is the ordinary position Jacobian of the shorter manipulator
+//! (column `k` zero unless row `k` moves the point), and column `k` of `J_a`
+//! (resp. `J_d`) is `∂p/∂a_k` (resp. `∂p/∂d_k`), with the cut values `a'`,
+//! `d'` for `k = i`. Every Jacobian is read from one [`Frames`] pass: the cost
+//! per control point is one walk up the chain with a cross product per column.
+//!
+//! For a prismatic row `i` the cut replaces its joint value by `d'`, so its
+//! own `J_θ` column is zero (the motion along the row is `J_d ḋ`). In the
+//! modified convention joint `i` turns about an axis through the point, so
+//! its own `J_θ` column is zero too.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{FieldError, finite};
+use crate::kinematics::{Convention, Frames, JointType, Robot};
+use crate::skeleton::{Skeleton, SpinePart};
+
+/// Tolerance (m) when checking that a DH value lies within its link's span
+/// and when mapping DH values to the skeleton.
+pub const SPAN_TOLERANCE: f64 = 1e-9;
+
+/// A point of the robot described by DH values: link (1-based row) `link`,
+/// `d'` and `a'` for that row.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DhPoint {
+    /// 1-based row index.
+    pub link: usize,
+    /// Cut value of `d` for the row (m).
+    pub d: f64,
+    /// Cut value of `a` for the row (m).
+    pub a: f64,
+}
+
+/// Position of a control point and its three Jacobians, each stored as `n`
+/// columns of 3-vectors.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointJacobians {
+    /// World position (m).
+    pub position: DVec3,
+    /// `∂p/∂q`, one column per joint.
+    pub j_theta: Vec<DVec3>,
+    /// `∂p/∂a_k`, one column per row.
+    pub j_a: Vec<DVec3>,
+    /// `∂p/∂d_k`, one column per row.
+    pub j_d: Vec<DVec3>,
+}
+
+/// Time derivatives of the Jacobians of a moving control point, for joint
+/// speeds `q̇` (given to [`Robot::forward_with_velocity`]) and DH-value rates
+/// `ȧ'`, `ḋ'` of the point's own row.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointJacobianRates {
+    /// Velocity of the point, `J_θ q̇ + J_a ȧ + J_d ḋ` (m/s).
+    pub velocity: DVec3,
+    /// `dJ_θ/dt`.
+    pub j_theta_dot: Vec<DVec3>,
+    /// `dJ_a/dt`.
+    pub j_a_dot: Vec<DVec3>,
+    /// `dJ_d/dt`.
+    pub j_d_dot: Vec<DVec3>,
+}
+
+/// Range `[lo, hi]` of `d'` on row `link` (1-based) at the configuration of
+/// `frames` (prismatic rows: the current `d`).
+#[must_use]
+pub fn d_span(frames: &Frames, link: usize) -> (f64, f64) {
+    let d = frames.d[link - 1];
+    (d.min(0.0), d.max(0.0))
+}
+
+/// Range `[lo, hi]` of `a'` on row `link`, the extension behind the joint
+/// included.
+#[must_use]
+pub fn a_span(robot: &Robot, link: usize) -> (f64, f64) {
+    let j = &robot.joints[link - 1];
+    if j.a < 0.0 {
+        (j.a, j.extension)
+    } else {
+        (-j.extension, j.a)
+    }
+}
+
+impl DhPoint {
+    /// Checks the link index and that `d'`, `a'` are finite and within the
+    /// link's span.
+    ///
+    /// # Errors
+    /// `link: 9 is out of range 1..=7`, `d: not a finite number`,
+    /// `a: 0.5 is outside the link's span [0, 0.3]`.
+    pub fn validate(&self, robot: &Robot, frames: &Frames) -> Result<(), FieldError> {
+        let n = robot.dof();
+        if self.link < 1 || self.link > n {
+            return Err(FieldError::new(
+                "link",
+                format!("{} is out of range 1..={n}", self.link),
+            ));
+        }
+        finite("d", self.d)?;
+        finite("a", self.a)?;
+        let (lo, hi) = d_span(frames, self.link);
+        if self.d < lo - SPAN_TOLERANCE || self.d > hi + SPAN_TOLERANCE {
+            return Err(FieldError::new(
+                "d",
+                format!("{} is outside the link's span [{lo}, {hi}]", self.d),
+            ));
+        }
+        let (lo, hi) = a_span(robot, self.link);
+        if self.a < lo - SPAN_TOLERANCE || self.a > hi + SPAN_TOLERANCE {
+            return Err(FieldError::new(
+                "a",
+                format!("{} is outside the link's span [{lo}, {hi}]", self.a),
+            ));
+        }
+        Ok(())
+    }
+
+    /// World position of the point (no validation: `link` must be in range).
+    #[must_use]
+    pub fn position(&self, robot: &Robot, frames: &Frames) -> DVec3 {
+        let i = self.link - 1;
+        let s = &frames.starts[i];
+        match robot.convention {
+            Convention::Standard => {
+                s.translation
+                    + self.d * s.matrix3.z_axis
+                    + self.a * frames.transforms[i + 1].matrix3.x_axis
+            }
+            Convention::Modified => {
+                s.translation
+                    + self.a * s.matrix3.x_axis
+                    + self.d * frames.transforms[i + 1].matrix3.z_axis
+            }
+        }
+    }
+
+    /// The point on the skeleton: segment index and fraction along it, or
+    /// `None` when the DH values leave the link's spine (both translations
+    /// partial) or the link has no segment.
+    #[must_use]
+    pub fn to_skeleton(
+        &self,
+        robot: &Robot,
+        frames: &Frames,
+        skeleton: &Skeleton,
+    ) -> Option<(usize, f64)> {
+        let i = self.link - 1;
+        let joint = robot.joints.get(i)?;
+        let d_full = frames.d[i];
+        let a_full = joint.a;
+        let find = |part: SpinePart| {
+            skeleton
+                .segments
+                .iter()
+                .position(|s| s.link == self.link && s.part == part)
+        };
+        let ratio = |x: f64, full: f64| {
+            if full.abs() > 0.0 {
+                (x / full).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
+        let on_extension = (a_full >= 0.0 && self.a < -SPAN_TOLERANCE)
+            || (a_full < 0.0 && self.a > SPAN_TOLERANCE);
+        // The translation that comes first in the row, and the second one.
+        let (first_val, first_full, second_val, second_full, first_part, second_part) = match robot
+            .convention
+        {
+            Convention::Standard => (self.d, d_full, self.a, a_full, SpinePart::D, SpinePart::A),
+            Convention::Modified => (self.a, a_full, self.d, d_full, SpinePart::A, SpinePart::D),
+        };
+        if on_extension {
+            let complete = match robot.convention {
+                Convention::Standard => (self.d - d_full).abs() <= SPAN_TOLERANCE,
+                Convention::Modified => self.d.abs() <= SPAN_TOLERANCE,
+            };
+            let e = joint.extension;
+            return if complete {
+                find(SpinePart::Extension).map(|s| (s, ratio(self.a.abs(), e)))
+            } else {
+                None
+            };
+        }
+        if second_val.abs() > SPAN_TOLERANCE {
+            if (first_val - first_full).abs() > SPAN_TOLERANCE {
+                return None;
+            }
+            return find(second_part).map(|s| (s, ratio(second_val, second_full)));
+        }
+        if let Some(s) = find(first_part) {
+            return Some((s, ratio(first_val, first_full)));
+        }
+        find(second_part).map(|s| (s, 0.0))
+    }
+
+    /// The DH values of the point at fraction `t ∈ [0, 1]` along skeleton
+    /// segment `segment`.
+    ///
+    /// # Errors
+    /// `segment: 12 is out of range 0..11`, `t: must be within [0, 1]`.
+    pub fn from_skeleton(
+        robot: &Robot,
+        frames: &Frames,
+        skeleton: &Skeleton,
+        segment: usize,
+        t: f64,
+    ) -> Result<Self, FieldError> {
+        let s = skeleton.segments.get(segment).ok_or_else(|| {
+            FieldError::new(
+                "segment",
+                format!("{segment} is out of range 0..{}", skeleton.segments.len()),
+            )
+        })?;
+        finite("t", t)?;
+        if !(0.0..=1.0).contains(&t) {
+            return Err(FieldError::new("t", "must be within [0, 1]"));
+        }
+        let i = s.link - 1;
+        let d_full = frames.d[i];
+        let joint = &robot.joints[i];
+        let back = if joint.a < 0.0 {
+            joint.extension
+        } else {
+            -joint.extension
+        };
+        let (d, a) = match (robot.convention, s.part) {
+            (Convention::Standard, SpinePart::D) => (t * d_full, 0.0),
+            (Convention::Standard, SpinePart::A) => (d_full, t * joint.a),
+            (Convention::Standard, SpinePart::Extension) => (d_full, t * back),
+            (Convention::Modified, SpinePart::A) => (0.0, t * joint.a),
+            (Convention::Modified, SpinePart::D) => (t * d_full, joint.a),
+            (Convention::Modified, SpinePart::Extension) => (0.0, t * back),
+        };
+        Ok(Self { link: s.link, d, a })
+    }
+
+    /// Position and Jacobians `J_θ`, `J_a`, `J_d` (no validation: `link` must be
+    /// in range).
+    #[must_use]
+    pub fn jacobians(&self, robot: &Robot, frames: &Frames) -> PointJacobians {
+        let mut out = PointJacobians::default();
+        self.jacobians_into(robot, frames, &mut out);
+        out
+    }
+
+    /// [`DhPoint::jacobians`] into existing storage (no allocation once `out`
+    /// has the right size).
+    pub fn jacobians_into(&self, robot: &Robot, frames: &Frames, out: &mut PointJacobians) {
+        let n = robot.dof();
+        let p = self.position(robot, frames);
+        out.position = p;
+        for v in [&mut out.j_theta, &mut out.j_a, &mut out.j_d] {
+            v.clear();
+            v.resize(n, DVec3::ZERO);
+        }
+        let mut k = self.link;
+        while k >= 1 {
+            let i = k - 1;
+            let joint = &robot.joints[i];
+            let s = &frames.starts[i];
+            let f = &frames.transforms[k];
+            let own = k == self.link;
+            match robot.convention {
+                Convention::Standard => {
+                    let z = s.matrix3.z_axis;
+                    out.j_theta[i] = match joint.kind {
+                        JointType::Revolute => z.cross(p - s.translation),
+                        JointType::Prismatic if own => DVec3::ZERO,
+                        JointType::Prismatic => z,
+                    };
+                    out.j_a[i] = f.matrix3.x_axis;
+                    out.j_d[i] = z;
+                }
+                Convention::Modified => {
+                    let z = f.matrix3.z_axis;
+                    out.j_theta[i] = match joint.kind {
+                        _ if own => DVec3::ZERO,
+                        JointType::Revolute => z.cross(p - frames.mids[i]),
+                        JointType::Prismatic => z,
+                    };
+                    out.j_a[i] = s.matrix3.x_axis;
+                    out.j_d[i] = z;
+                }
+            }
+            k = joint.parent;
+        }
+    }
+
+    /// Time derivatives of the Jacobians for a point whose own DH values move
+    /// at `a_rate = ȧ'` and `d_rate = ḋ'`, the robot moving at the `q̇` given to
+    /// [`Robot::forward_with_velocity`].
+    ///
+    /// # Errors
+    /// `qdot: frames were computed without joint velocities` when `frames`
+    /// carry no velocities; a non-finite rate.
+    pub fn jacobian_rates(
+        &self,
+        robot: &Robot,
+        frames: &Frames,
+        a_rate: f64,
+        d_rate: f64,
+    ) -> Result<PointJacobianRates, FieldError> {
+        if !frames.has_velocity() {
+            return Err(FieldError::new(
+                "qdot",
+                "frames were computed without joint velocities",
+            ));
+        }
+        finite("aRate", a_rate)?;
+        finite("dRate", d_rate)?;
+        let jac = self.jacobians(robot, frames);
+        let n = robot.dof();
+        let i_own = self.link - 1;
+        let mut pdot = jac.j_a[i_own] * a_rate + jac.j_d[i_own] * d_rate;
+        for (c, qd) in jac.j_theta.iter().zip(&frames.qdot) {
+            pdot += *c * *qd;
+        }
+        let p = jac.position;
+        let mut out = PointJacobianRates {
+            velocity: pdot,
+            j_theta_dot: vec![DVec3::ZERO; n],
+            j_a_dot: vec![DVec3::ZERO; n],
+            j_d_dot: vec![DVec3::ZERO; n],
+        };
+        let mut k = self.link;
+        while k >= 1 {
+            let i = k - 1;
+            let joint = &robot.joints[i];
+            let s = &frames.starts[i];
+            let f = &frames.transforms[k];
+            let w_s = frames.omega[joint.parent];
+            let v_s = frames.velocity[joint.parent];
+            let w_k = frames.omega[k];
+            let own = k == self.link;
+            match robot.convention {
+                Convention::Standard => {
+                    let z = s.matrix3.z_axis;
+                    let zdot = w_s.cross(z);
+                    out.j_theta_dot[i] = match joint.kind {
+                        JointType::Revolute => zdot.cross(p - s.translation) + z.cross(pdot - v_s),
+                        JointType::Prismatic if own => DVec3::ZERO,
+                        JointType::Prismatic => zdot,
+                    };
+                    out.j_a_dot[i] = w_k.cross(f.matrix3.x_axis);
+                    out.j_d_dot[i] = zdot;
+                }
+                Convention::Modified => {
+                    let z = f.matrix3.z_axis;
+                    let zdot = w_k.cross(z);
+                    out.j_theta_dot[i] = match joint.kind {
+                        _ if own => DVec3::ZERO,
+                        JointType::Revolute => {
+                            let m = frames.mids[i];
+                            let v_m = v_s + w_s.cross(m - s.translation);
+                            zdot.cross(p - m) + z.cross(pdot - v_m)
+                        }
+                        JointType::Prismatic => zdot,
+                    };
+                    out.j_a_dot[i] = w_s.cross(s.matrix3.x_axis);
+                    out.j_d_dot[i] = zdot;
+                }
+            }
+            k = joint.parent;
+        }
+        Ok(out)
+    }
+}

@@ -22,7 +22,10 @@ impl FieldError {
     /// A field error at `field` for `reason`.
     #[must_use]
     pub fn new(field: impl Into<String>, reason: impl Into<String>) -> Self {
-        Self { field: field.into(), reason: reason.into() }
+        Self {
+            field: field.into(),
+            reason: reason.into(),
+        }
     }
 
     /// The same error with `prefix` put in front of its path
@@ -60,7 +63,11 @@ impl std::error::Error for FieldError {}
 /// # Errors
 /// `field: not a finite number` for NaN and ±∞.
 pub fn finite(field: &str, x: f64) -> Result<f64, FieldError> {
-    if x.is_finite() { Ok(x) } else { Err(FieldError::new(field, "not a finite number")) }
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(FieldError::new(field, "not a finite number"))
+    }
 }
 
 /// `Ok(v)` when every component of `v` is finite.
@@ -70,7 +77,10 @@ pub fn finite(field: &str, x: f64) -> Result<f64, FieldError> {
 pub fn finite3(field: &str, v: glam::DVec3) -> Result<glam::DVec3, FieldError> {
     for (k, c) in v.to_array().iter().enumerate() {
         if !c.is_finite() {
-            return Err(FieldError::new(format!("{field}[{k}]"), "not a finite number"));
+            return Err(FieldError::new(
+                format!("{field}[{k}]"),
+                "not a finite number",
+            ));
         }
     }
     Ok(v)
@@ -82,7 +92,11 @@ pub fn finite3(field: &str, v: glam::DVec3) -> Result<glam::DVec3, FieldError> {
 /// `field: not a finite number` or `field: must be > 0`.
 pub fn positive(field: &str, x: f64) -> Result<f64, FieldError> {
     finite(field, x)?;
-    if x > 0.0 { Ok(x) } else { Err(FieldError::new(field, "must be > 0")) }
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(FieldError::new(field, "must be > 0"))
+    }
 }
 
 /// `Ok(x)` when `x` is finite and not negative.
@@ -91,5 +105,9 @@ pub fn positive(field: &str, x: f64) -> Result<f64, FieldError> {
 /// `field: not a finite number` or `field: must be >= 0`.
 pub fn non_negative(field: &str, x: f64) -> Result<f64, FieldError> {
     finite(field, x)?;
-    if x >= 0.0 { Ok(x) } else { Err(FieldError::new(field, "must be >= 0")) }
+    if x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(FieldError::new(field, "must be >= 0"))
+    }
 }

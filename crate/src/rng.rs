@@ -32,7 +32,10 @@ impl Rng {
             splitmix64(&mut st),
             splitmix64(&mut st),
         ];
-        Self { s, spare_normal: None }
+        Self {
+            s,
+            spare_normal: None,
+        }
     }
 
     /// The next 64 random bits.

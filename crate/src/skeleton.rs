@@ -1,7 +1,16 @@
 //! The skeleton: nodes and tapered segments built from the DH table (paper §II,
-//! fig. 1). (Construction being written.)
+//! fig. 1).
+//!
+//! Nodes are the Cartesian points reached along the DH chain: per row, the
+//! point after its first translation and the point after its second (`d` then
+//! `a` in the standard convention, `a` then `d` in the modified one). A
+//! translation of zero length adds no node, so nodes never coincide by
+//! construction. Segments join consecutive nodes and carry a volume of
+//! revolution whose radius varies linearly along them (a tapered capsule).
 
 use glam::DVec3;
+
+use crate::kinematics::{Convention, Frames, JointType, Robot};
 
 /// Which translation of its DH row a segment spans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -39,6 +48,9 @@ pub struct Skeleton {
     pub nodes: Vec<DVec3>,
     /// Segments between nodes.
     pub segments: Vec<Segment>,
+    /// Node at (or, for a zero-length row, standing for) each frame origin,
+    /// index 0 (base) ..= n.
+    pub frame_nodes: Vec<usize>,
 }
 
 impl Skeleton {
@@ -46,5 +58,135 @@ impl Skeleton {
     #[must_use]
     pub fn endpoints(&self, s: &Segment) -> (DVec3, DVec3) {
         (self.nodes[s.from], self.nodes[s.to])
+    }
+}
+
+/// Translations shorter than this (m) add no node: the node would coincide
+/// with the one before it.
+pub const NODE_TOLERANCE: f64 = 1e-6;
+
+impl Skeleton {
+    /// Builds the skeleton of `robot` at the configuration of `frames`.
+    ///
+    /// Per DH row, in the order of its two translations, a node is added after
+    /// each translation that is not shorter than [`NODE_TOLERANCE`] (prismatic
+    /// `d` always counts), with a segment from the previous node; a row with
+    /// an `extension` adds a dead-end segment behind the start of its `a`
+    /// translation. Which nodes exist depends only on the DH table, never on
+    /// `q`, so segment indices are stable while the robot moves. Branches start
+    /// from the node of their parent frame.
+    #[must_use]
+    pub fn build(robot: &Robot, frames: &Frames) -> Self {
+        let mut s = Self::default();
+        s.build_into(robot, frames);
+        s
+    }
+
+    /// [`Skeleton::build`] into existing storage.
+    pub fn build_into(&mut self, robot: &Robot, frames: &Frames) {
+        self.nodes.clear();
+        self.segments.clear();
+        self.frame_nodes.clear();
+        self.frame_nodes.resize(robot.dof() + 1, 0);
+        self.nodes.push(frames.transforms[0].translation);
+        for (i, joint) in robot.joints.iter().enumerate() {
+            let link = i + 1;
+            let start_node = self.frame_nodes[joint.parent];
+            let (first_len, second_len, first_part, second_part) = match robot.convention {
+                Convention::Standard => (
+                    if joint.kind == JointType::Prismatic {
+                        f64::INFINITY
+                    } else {
+                        joint.d.abs()
+                    },
+                    joint.a.abs(),
+                    SpinePart::D,
+                    SpinePart::A,
+                ),
+                Convention::Modified => (
+                    joint.a.abs(),
+                    if joint.kind == JointType::Prismatic {
+                        f64::INFINITY
+                    } else {
+                        joint.d.abs()
+                    },
+                    SpinePart::A,
+                    SpinePart::D,
+                ),
+            };
+            let mut current = start_node;
+            if first_len >= NODE_TOLERANCE {
+                current = self.push(current, frames.mids[i], link, first_part, joint.radius);
+            }
+            // The a spine starts at the mid node (standard) or at the row's start (modified).
+            if joint.extension >= NODE_TOLERANCE {
+                let (from, x) = match robot.convention {
+                    Convention::Standard => (current, frames.transforms[link].matrix3.x_axis),
+                    Convention::Modified => (start_node, frames.starts[i].matrix3.x_axis),
+                };
+                let sign = if joint.a < 0.0 { -1.0 } else { 1.0 };
+                let tip = self.nodes[from] - sign * joint.extension * x;
+                self.push(from, tip, link, SpinePart::Extension, joint.radius);
+            }
+            if second_len >= NODE_TOLERANCE {
+                current = self.push(
+                    current,
+                    frames.transforms[link].translation,
+                    link,
+                    second_part,
+                    joint.radius,
+                );
+            }
+            self.frame_nodes[link] = current;
+        }
+    }
+
+    fn push(
+        &mut self,
+        from: usize,
+        p: DVec3,
+        link: usize,
+        part: SpinePart,
+        radius: [f64; 2],
+    ) -> usize {
+        self.nodes.push(p);
+        let to = self.nodes.len() - 1;
+        self.segments.push(Segment {
+            from,
+            to,
+            link,
+            part,
+            radius,
+        });
+        to
+    }
+
+    /// Closest point of the skeleton's spine to `p`: `(segment, t, point)`, or
+    /// `None` when the skeleton has no segment.
+    #[must_use]
+    pub fn closest_point(&self, p: DVec3) -> Option<(usize, f64, DVec3)> {
+        let mut best: Option<(usize, f64, DVec3, f64)> = None;
+        for (k, s) in self.segments.iter().enumerate() {
+            let (a, b) = self.endpoints(s);
+            let ab = b - a;
+            let l2 = ab.length_squared();
+            let t = if l2 > 0.0 {
+                ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let c = a + t * ab;
+            let d2 = (p - c).length_squared();
+            if best.is_none_or(|b| d2 < b.3) {
+                best = Some((k, t, c, d2));
+            }
+        }
+        best.map(|(k, t, c, _)| (k, t, c))
+    }
+
+    /// Radius of segment `s` at fraction `t` along it.
+    #[must_use]
+    pub fn radius_at(s: &Segment, t: f64) -> f64 {
+        s.radius[0] + (s.radius[1] - s.radius[0]) * t
     }
 }

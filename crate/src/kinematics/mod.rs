@@ -1,1 +1,249 @@
-//! DH robots and forward kinematics. (Being written.)
+//! Robots described by DH tables: the validated model, presets, forward
+//! kinematics in one pass over the chain, and inverse kinematics.
+//!
+//! A [`Robot`] is built from a [`RobotSpec`] (the JS robot spec) by
+//! [`Robot::from_spec`], which validates every field. [`Robot::forward`]
+//! computes every frame in one pass ([`Frames`]); the skeleton
+//! ([`crate::skeleton`]) and every control-point Jacobian
+//! ([`crate::control_point`]) are then read from that pass without multiplying
+//! the chain again.
+//!
+//! Rows are numbered from 1 (row `j` is the transform from its start frame to
+//! frame `j`); frame 0 is the base. Several chains may share the base: the
+//! rows of [`RobotSpec::joints`] come first, then those of every branch, and
+//! each row records the frame it starts from ([`Joint::parent`]).
+
+mod frames;
+pub mod ik;
+pub mod presets;
+mod spec;
+
+use glam::{DAffine3, DQuat};
+
+pub use frames::Frames;
+pub use spec::{
+    BranchSpec, Convention, DEFAULT_RADIUS, Joint, JointSpec, JointType, PoseSpec, RadiusSpec,
+    RobotSpec, UNIT_QUAT_TOLERANCE,
+};
+
+use crate::error::FieldError;
+
+/// One serial chain of a robot: a contiguous range of rows and a tool.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chain {
+    /// Display name.
+    pub name: String,
+    /// First row of the chain (1-based).
+    pub first: usize,
+    /// Last row of the chain (1-based, inclusive).
+    pub last: usize,
+    /// Tool transform after the last row.
+    pub tool: DAffine3,
+}
+
+/// A validated robot: DH rows, base pose, chains.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Robot {
+    /// Display name.
+    pub name: String,
+    /// DH convention of every row.
+    pub convention: Convention,
+    /// Pose of frame 0 in the world.
+    pub base: DAffine3,
+    /// Rows 1..=n, stored from index 0.
+    pub joints: Vec<Joint>,
+    /// The main chain first, then the branches.
+    pub chains: Vec<Chain>,
+}
+
+impl Robot {
+    /// Validates `spec` into a robot.
+    ///
+    /// # Errors
+    /// A [`FieldError`] naming the first bad field: an empty DH table
+    /// (`joints: the DH table is empty`), a non-finite value
+    /// (`joints[3].alpha: not a finite number`), a degenerate or non-unit base
+    /// rotation, a negative radius, a branch whose parent frame does not exist.
+    pub fn from_spec(spec: &RobotSpec) -> Result<Self, FieldError> {
+        if spec.joints.is_empty() {
+            return Err(FieldError::new("joints", "the DH table is empty"));
+        }
+        let base = match &spec.base {
+            Some(p) => spec::pose("base", p)?,
+            None => DAffine3::IDENTITY,
+        };
+        let tool = match &spec.tool {
+            Some(p) => spec::pose("tool", p)?,
+            None => DAffine3::IDENTITY,
+        };
+        let mut joints = Vec::with_capacity(spec.joints.len());
+        for (i, j) in spec.joints.iter().enumerate() {
+            joints.push(spec::joint(&format!("joints[{i}]"), j, i)?);
+        }
+        let mut chains = vec![Chain {
+            name: spec.name.clone().unwrap_or_else(|| "main".to_owned()),
+            first: 1,
+            last: joints.len(),
+            tool,
+        }];
+        for (b, branch) in spec.branches.iter().enumerate() {
+            let field = format!("branches[{b}]");
+            if branch.joints.is_empty() {
+                return Err(FieldError::new(
+                    format!("{field}.joints"),
+                    "the DH table is empty",
+                ));
+            }
+            if branch.parent > joints.len() {
+                return Err(FieldError::new(
+                    format!("{field}.parent"),
+                    format!(
+                        "{} is not a frame of an earlier chain (0..={})",
+                        branch.parent,
+                        joints.len()
+                    ),
+                ));
+            }
+            let mount = spec::rotation(&format!("{field}.mount"), branch.mount)?;
+            let tool = match &branch.tool {
+                Some(p) => spec::pose(&format!("{field}.tool"), p)?,
+                None => DAffine3::IDENTITY,
+            };
+            let first = joints.len() + 1;
+            for (i, j) in branch.joints.iter().enumerate() {
+                let parent = if i == 0 { branch.parent } else { joints.len() };
+                let mut joint = spec::joint(&format!("{field}.joints[{i}]"), j, parent)?;
+                if i == 0 && mount != DQuat::IDENTITY {
+                    joint.mount = Some(mount);
+                }
+                joints.push(joint);
+            }
+            chains.push(Chain {
+                name: branch
+                    .name
+                    .clone()
+                    .unwrap_or_else(|| format!("branch {}", b + 1)),
+                first,
+                last: joints.len(),
+                tool,
+            });
+        }
+        Ok(Self {
+            name: spec.name.clone().unwrap_or_default(),
+            convention: spec.convention,
+            base,
+            joints,
+            chains,
+        })
+    }
+
+    /// Number of joints (= rows = length of `q`).
+    #[must_use]
+    pub fn dof(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// Frame the 1-based row `link` starts from (0 = base).
+    ///
+    /// # Panics
+    /// Never for `1 <= link <= dof()`; out-of-range indices are a caller bug.
+    #[must_use]
+    pub fn parent_link(&self, link: usize) -> usize {
+        self.joints[link - 1].parent
+    }
+
+    /// Whether row `k` moves the frames of row `link` (`k` is `link` or one of
+    /// its ancestors). Both 1-based.
+    #[must_use]
+    pub fn is_ancestor(&self, k: usize, link: usize) -> bool {
+        let mut j = link;
+        while j >= 1 {
+            if j == k {
+                return true;
+            }
+            j = self.joints[j - 1].parent;
+        }
+        false
+    }
+
+    /// Whether two rows are adjacent in the tree (one starts from the other's
+    /// frame) or are the same row; adjacent links are skipped by the
+    /// self-collision query.
+    #[must_use]
+    pub fn adjacent(&self, i: usize, j: usize) -> bool {
+        i == j
+            || (j >= 1 && j <= self.dof() && self.parent_link(j) == i)
+            || (i >= 1 && i <= self.dof() && self.parent_link(i) == j)
+    }
+
+    /// Checks a joint vector: its length and that every value is finite.
+    ///
+    /// # Errors
+    /// `q: expected 7 joint values, got 6` or `q[2]: not a finite number`.
+    pub fn check_q(&self, q: &[f64]) -> Result<(), FieldError> {
+        check_vector("q", q, self.dof())
+    }
+
+    /// Forward kinematics: every frame, in one pass.
+    ///
+    /// # Errors
+    /// An invalid `q` (see [`Robot::check_q`]).
+    pub fn forward(&self, q: &[f64]) -> Result<Frames, FieldError> {
+        let mut f = Frames::default();
+        self.forward_into(q, &mut f)?;
+        Ok(f)
+    }
+
+    /// [`Robot::forward`] into an existing [`Frames`], reusing its storage.
+    ///
+    /// # Errors
+    /// An invalid `q` (see [`Robot::check_q`]).
+    pub fn forward_into(&self, q: &[f64], frames: &mut Frames) -> Result<(), FieldError> {
+        self.check_q(q)?;
+        frames.compute(self, q, None);
+        Ok(())
+    }
+
+    /// Forward kinematics with velocities: also every frame's angular velocity
+    /// and origin velocity for joint speeds `qdot`, needed by the Jacobian
+    /// time derivatives.
+    ///
+    /// # Errors
+    /// An invalid `q` or `qdot` (length, non-finite values).
+    pub fn forward_with_velocity(&self, q: &[f64], qdot: &[f64]) -> Result<Frames, FieldError> {
+        self.check_q(q)?;
+        check_vector("qdot", qdot, self.dof())?;
+        let mut f = Frames::default();
+        f.compute(self, q, Some(qdot));
+        Ok(f)
+    }
+
+    /// Clamps `q` into the joint limits.
+    pub fn clamp_to_limits(&self, q: &mut [f64]) {
+        for (v, j) in q.iter_mut().zip(&self.joints) {
+            *v = v.clamp(j.min, j.max);
+        }
+    }
+}
+
+/// Checks that `v` has `n` finite values.
+///
+/// # Errors
+/// `field: expected n joint values, got m` or `field[k]: not a finite number`.
+pub fn check_vector(field: &str, v: &[f64], n: usize) -> Result<(), FieldError> {
+    if v.len() != n {
+        return Err(FieldError::new(
+            field,
+            format!("expected {n} joint values, got {}", v.len()),
+        ));
+    }
+    for (k, x) in v.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(FieldError::new(
+                format!("{field}[{k}]"),
+                "not a finite number",
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,150 @@
+//! Forward kinematics in one pass: every frame, the start frame of every row,
+//! the node between a row's two translations, and (optionally) every frame's
+//! velocity.
+
+use glam::{DAffine3, DMat3, DVec3};
+
+use super::{Convention, JointType, Robot};
+
+/// The result of one forward-kinematics pass over a robot at `q` (and
+/// optionally `q̇`). Everything the skeleton and the control-point Jacobians
+/// need is here; they never multiply the chain again.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Frames {
+    /// Frame poses in the world, index 0 (base) ..= n.
+    pub transforms: Vec<DAffine3>,
+    /// Per row (index `j − 1`): the frame the row starts from (its parent frame,
+    /// turned by a branch mount when there is one).
+    pub starts: Vec<DAffine3>,
+    /// Per row: the point between the row's two translations (after `d` in the
+    /// standard convention, after `a` in the modified one).
+    pub mids: Vec<DVec3>,
+    /// Per row: the effective `d` (with the joint value of a prismatic joint).
+    pub d: Vec<f64>,
+    /// Per chain: last frame times the tool transform.
+    pub end_effectors: Vec<DAffine3>,
+    /// Angular velocity of each frame (rad/s), index 0..=n; empty without `q̇`.
+    pub omega: Vec<DVec3>,
+    /// Linear velocity of each frame origin (m/s), index 0..=n; empty without `q̇`.
+    pub velocity: Vec<DVec3>,
+    /// The joint speeds the velocities were computed for; empty without `q̇`.
+    pub qdot: Vec<f64>,
+    /// The convention of the robot the frames belong to.
+    pub convention: Option<Convention>,
+}
+
+impl Frames {
+    /// Origin of frame `k` (0 = base).
+    #[must_use]
+    pub fn origin(&self, k: usize) -> DVec3 {
+        self.transforms[k].translation
+    }
+
+    /// The end effector of the main chain.
+    #[must_use]
+    pub fn end_effector(&self) -> DAffine3 {
+        self.end_effectors
+            .first()
+            .copied()
+            .unwrap_or(DAffine3::IDENTITY)
+    }
+
+    /// Whether velocities were computed.
+    #[must_use]
+    pub fn has_velocity(&self) -> bool {
+        !self.omega.is_empty()
+    }
+
+    pub(super) fn compute(&mut self, robot: &Robot, q: &[f64], qdot: Option<&[f64]>) {
+        let n = robot.dof();
+        self.transforms.clear();
+        self.starts.clear();
+        self.mids.clear();
+        self.d.clear();
+        self.end_effectors.clear();
+        self.omega.clear();
+        self.velocity.clear();
+        self.qdot.clear();
+        self.convention = Some(robot.convention);
+        self.transforms.push(robot.base);
+        if let Some(qd) = qdot {
+            self.omega.push(DVec3::ZERO);
+            self.velocity.push(DVec3::ZERO);
+            self.qdot.extend_from_slice(qd);
+        }
+        for (i, joint) in robot.joints.iter().enumerate() {
+            let parent = self.transforms[joint.parent];
+            let start = match joint.mount {
+                Some(m) => DAffine3 {
+                    matrix3: parent.matrix3 * DMat3::from_quat(m),
+                    translation: parent.translation,
+                },
+                None => parent,
+            };
+            let (theta, d) = match joint.kind {
+                JointType::Revolute => (joint.theta + q[i], joint.d),
+                JointType::Prismatic => (joint.theta, joint.d + q[i]),
+            };
+            let (st, ct) = theta.sin_cos();
+            let (sa, ca) = joint.alpha.sin_cos();
+            let xs = start.matrix3.x_axis;
+            let ys = start.matrix3.y_axis;
+            let zs = start.matrix3.z_axis;
+            let o0 = start.translation;
+            let (mid, x, y, z, origin) = match robot.convention {
+                Convention::Standard => {
+                    // Rz(θ) Tz(d) Tx(a) Rx(α)
+                    let x = ct * xs + st * ys;
+                    let yp = -st * xs + ct * ys;
+                    let mid = o0 + d * zs;
+                    let origin = mid + joint.a * x;
+                    (mid, x, ca * yp + sa * zs, -sa * yp + ca * zs, origin)
+                }
+                Convention::Modified => {
+                    // Rx(α) Tx(a) Rz(θ) Tz(d)
+                    let yp = ca * ys + sa * zs;
+                    let z = -sa * ys + ca * zs;
+                    let mid = o0 + joint.a * xs;
+                    let x = ct * xs + st * yp;
+                    let y = -st * xs + ct * yp;
+                    (mid, x, y, z, mid + d * z)
+                }
+            };
+            let frame = DAffine3 {
+                matrix3: DMat3::from_cols(x, y, z),
+                translation: origin,
+            };
+            if let Some(qd) = qdot {
+                let w_s = self.omega[joint.parent];
+                let v_s = self.velocity[joint.parent];
+                let rate = qd[i];
+                let (w, v) = match (robot.convention, joint.kind) {
+                    (Convention::Standard, JointType::Revolute) => {
+                        let w = w_s + rate * zs;
+                        (w, v_s + w_s.cross(mid - o0) + w.cross(origin - mid))
+                    }
+                    (Convention::Standard, JointType::Prismatic) => {
+                        (w_s, v_s + w_s.cross(origin - o0) + rate * zs)
+                    }
+                    (Convention::Modified, JointType::Revolute) => {
+                        (w_s + rate * z, v_s + w_s.cross(origin - o0))
+                    }
+                    (Convention::Modified, JointType::Prismatic) => {
+                        (w_s, v_s + w_s.cross(origin - o0) + rate * z)
+                    }
+                };
+                self.omega.push(w);
+                self.velocity.push(v);
+            }
+            self.starts.push(start);
+            self.mids.push(mid);
+            self.d.push(d);
+            self.transforms.push(frame);
+        }
+        for chain in &robot.chains {
+            self.end_effectors
+                .push(self.transforms[chain.last] * chain.tool);
+        }
+        debug_assert_eq!(self.transforms.len(), n + 1);
+    }
+}

@@ -1,0 +1,260 @@
+//! The serialisable robot description (the JS "robot spec") and its
+//! validation into a [`Robot`](super::Robot).
+
+use glam::{DAffine3, DQuat, DVec3};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{FieldError, finite, finite3, non_negative, positive};
+
+/// DH convention of a robot's table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum Convention {
+    /// Siciliano & Sciavicco: `A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)`.
+    Standard,
+    /// Craig: `A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i)`; row `i` holds
+    /// `a_{i-1}, α_{i-1}, d_i, θ_i`.
+    Modified,
+}
+
+/// Kind of joint of a DH row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum JointType {
+    /// The joint value is added to `theta` (rad).
+    #[default]
+    Revolute,
+    /// The joint value is added to `d` (m).
+    Prismatic,
+}
+
+/// A pose: position (m) and rotation as a quaternion `[x, y, z, w]`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct PoseSpec {
+    /// Translation (m).
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// Unit quaternion `[x, y, z, w]`.
+    #[serde(default = "identity_quat")]
+    pub rotation: [f64; 4],
+}
+
+fn identity_quat() -> [f64; 4] {
+    [0.0, 0.0, 0.0, 1.0]
+}
+
+impl Default for PoseSpec {
+    fn default() -> Self {
+        Self {
+            position: [0.0; 3],
+            rotation: identity_quat(),
+        }
+    }
+}
+
+/// Radius of the volume around a link's segments: one value, or `[r0, r1]`
+/// varying linearly along each segment.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum RadiusSpec {
+    /// The same radius along the whole link (m).
+    Uniform(f64),
+    /// Radius at the start and at the end of each segment of the link (m).
+    Tapered([f64; 2]),
+}
+
+/// One DH row.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct JointSpec {
+    /// Link length `a` (m); `a_{i-1}` in the modified convention.
+    pub a: f64,
+    /// Link twist `α` (rad); `α_{i-1}` in the modified convention.
+    pub alpha: f64,
+    /// Link offset `d` (m); the offset added to the joint value of a prismatic joint.
+    pub d: f64,
+    /// Joint angle `θ` (rad); the offset added to the joint value of a revolute joint.
+    pub theta: f64,
+    /// Revolute (default) or prismatic.
+    #[serde(default, rename = "type")]
+    pub kind: JointType,
+    /// Lower joint limit (rad or m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min: Option<f64>,
+    /// Upper joint limit (rad or m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<f64>,
+    /// Joint speed limit (rad/s or m/s), > 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_velocity: Option<f64>,
+    /// Radius of the volume around the link's segments (m); default 0.05.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<RadiusSpec>,
+    /// Length (m) by which the link's `a` spine extends behind its start
+    /// (counterbalances, motors); adds a skeleton segment with `a' < 0`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extension: Option<f64>,
+}
+
+/// A further chain carried by a joint frame of an earlier chain (an arm on a
+/// torso).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct BranchSpec {
+    /// Display name ("left", "right").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// 1-based index (over all earlier rows) of the joint frame carrying the
+    /// branch; 0 is the base.
+    pub parent: usize,
+    /// Fixed rotation `[x, y, z, w]` between the parent frame and the branch's
+    /// first row (no translation: offsets belong in the DH rows, so that the
+    /// skeleton spans them).
+    #[serde(default = "identity_quat")]
+    pub mount: [f64; 4],
+    /// The branch's DH rows, in the robot's convention.
+    pub joints: Vec<JointSpec>,
+    /// Tool transform after the branch's last row.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tool: Option<PoseSpec>,
+}
+
+/// A robot described by its DH table (the JS robot spec of DESIGN.md).
+///
+/// The joint vector `q` lists the rows of `joints` first, then the rows of each
+/// branch in order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct RobotSpec {
+    /// Display name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// DH convention of every row.
+    pub convention: Convention,
+    /// Pose of frame 0 in the world.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<PoseSpec>,
+    /// DH rows of the main chain.
+    pub joints: Vec<JointSpec>,
+    /// Tool transform after the main chain's last row.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tool: Option<PoseSpec>,
+    /// Further chains on the same base (arms of a torso).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub branches: Vec<BranchSpec>,
+}
+
+/// Default radius of a link's volume when the spec names none (m).
+pub const DEFAULT_RADIUS: f64 = 0.05;
+
+/// Tolerance on `|q| = 1` for quaternions in a spec.
+pub const UNIT_QUAT_TOLERANCE: f64 = 1e-6;
+
+pub(crate) fn rotation(field: &str, r: [f64; 4]) -> Result<DQuat, FieldError> {
+    for (k, c) in r.iter().enumerate() {
+        finite(&format!("{field}[{k}]"), *c)?;
+    }
+    let q = DQuat::from_array(r);
+    let n = q.length();
+    if n < 1e-12 {
+        return Err(FieldError::new(
+            field,
+            "degenerate quaternion (zero length)",
+        ));
+    }
+    if (n - 1.0).abs() > UNIT_QUAT_TOLERANCE {
+        return Err(FieldError::new(
+            field,
+            format!("quaternion [x, y, z, w] must have unit length, got |q| = {n}"),
+        ));
+    }
+    Ok(q / n)
+}
+
+pub(crate) fn pose(field: &str, p: &PoseSpec) -> Result<DAffine3, FieldError> {
+    let t = finite3(&format!("{field}.position"), DVec3::from_array(p.position))?;
+    let r = rotation(&format!("{field}.rotation"), p.rotation)?;
+    Ok(DAffine3::from_rotation_translation(r, t))
+}
+
+/// A validated DH row.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Joint {
+    /// Link length `a` (m).
+    pub a: f64,
+    /// Link twist `α` (rad).
+    pub alpha: f64,
+    /// Link offset `d` (m) (offset of the joint value when prismatic).
+    pub d: f64,
+    /// Joint angle `θ` (rad) (offset of the joint value when revolute).
+    pub theta: f64,
+    /// Revolute or prismatic.
+    pub kind: JointType,
+    /// Lower limit (−∞ when none).
+    pub min: f64,
+    /// Upper limit (+∞ when none).
+    pub max: f64,
+    /// Speed limit (+∞ when none).
+    pub max_velocity: f64,
+    /// Radius at the start and end of each of the link's segments (m).
+    pub radius: [f64; 2],
+    /// Extension of the `a` spine behind its start (m, ≥ 0).
+    pub extension: f64,
+    /// Index of the frame this row starts from: 0 is the base, `k` the frame
+    /// after row `k`.
+    pub parent: usize,
+    /// Fixed rotation from the parent frame to this row's start (branches).
+    pub mount: Option<DQuat>,
+}
+
+pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, FieldError> {
+    let a = finite(&format!("{field}.a"), j.a)?;
+    let alpha = finite(&format!("{field}.alpha"), j.alpha)?;
+    let d = finite(&format!("{field}.d"), j.d)?;
+    let theta = finite(&format!("{field}.theta"), j.theta)?;
+    let min = match j.min {
+        Some(v) => finite(&format!("{field}.min"), v)?,
+        None => f64::NEG_INFINITY,
+    };
+    let max = match j.max {
+        Some(v) => finite(&format!("{field}.max"), v)?,
+        None => f64::INFINITY,
+    };
+    if min > max {
+        return Err(FieldError::new(
+            format!("{field}.min"),
+            format!("{min} is above max {max}"),
+        ));
+    }
+    let max_velocity = match j.max_velocity {
+        Some(v) => positive(&format!("{field}.maxVelocity"), v)?,
+        None => f64::INFINITY,
+    };
+    let radius = match j.radius {
+        None => [DEFAULT_RADIUS; 2],
+        Some(RadiusSpec::Uniform(r)) => [non_negative(&format!("{field}.radius"), r)?; 2],
+        Some(RadiusSpec::Tapered([r0, r1])) => [
+            non_negative(&format!("{field}.radius[0]"), r0)?,
+            non_negative(&format!("{field}.radius[1]"), r1)?,
+        ],
+    };
+    let extension = match j.extension {
+        Some(e) => non_negative(&format!("{field}.extension"), e)?,
+        None => 0.0,
+    };
+    Ok(Joint {
+        a,
+        alpha,
+        d,
+        theta,
+        kind: j.kind,
+        min,
+        max,
+        max_velocity,
+        radius,
+        extension,
+        parent,
+        mount: None,
+    })
+}

@@ -1,0 +1,1 @@
+//! The wgpu renderer of the playground (wasm32, feature `render`).

@@ -1,0 +1,577 @@
+//! Kinematics, skeleton and control-point Jacobians: finite differences on
+//! every preset, DH conventions, the paper's planar example, CLIK, bad input.
+//! Runs natively and, unchanged, under `wasm-pack test --node`.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use glam::{DAffine3, DVec3};
+use skeleton_avoidance::control_point::{DhPoint, a_span, d_span};
+use skeleton_avoidance::kinematics::ik::{self, Damping, Mat, SolveOptions};
+use skeleton_avoidance::kinematics::{Convention, JointSpec, PoseSpec, Robot, RobotSpec, presets};
+use skeleton_avoidance::rng::Rng;
+use skeleton_avoidance::skeleton::Skeleton;
+
+fn robot(name: &str) -> Robot {
+    Robot::from_spec(&presets::preset(name).unwrap()).unwrap()
+}
+
+fn random_q(robot: &Robot, rng: &mut Rng) -> Vec<f64> {
+    robot
+        .joints
+        .iter()
+        .map(|j| {
+            let (lo, hi) = if j.min.is_finite() {
+                (j.min, j.max)
+            } else {
+                (-3.0, 3.0)
+            };
+            rng.range(lo, hi)
+        })
+        .collect()
+}
+
+/// A random point of link `link`: on the spine or anywhere in the span box.
+fn random_point(
+    robot: &Robot,
+    frames: &skeleton_avoidance::kinematics::Frames,
+    link: usize,
+    rng: &mut Rng,
+) -> DhPoint {
+    let (dl, dh) = d_span(frames, link);
+    let (al, ah) = a_span(robot, link);
+    DhPoint {
+        link,
+        d: rng.range(dl, dh),
+        a: rng.range(al, ah),
+    }
+}
+
+fn close(a: DVec3, b: DVec3, tol: f64) -> bool {
+    (a - b).length() <= tol * (1.0 + a.length().max(b.length()))
+}
+
+const H: f64 = 1e-6;
+const FD_TOL: f64 = 1e-7;
+
+#[test]
+fn jacobians_match_finite_differences_on_every_preset() {
+    let mut rng = Rng::new(11);
+    for name in presets::NAMES {
+        let base = robot(name);
+        let n = base.dof();
+        for _ in 0..12 {
+            let q = random_q(&base, &mut rng);
+            let frames = base.forward(&q).unwrap();
+            for link in 1..=n {
+                let cp = random_point(&base, &frames, link, &mut rng);
+                let jac = cp.jacobians(&base, &frames);
+                assert!(close(jac.position, cp.position(&base, &frames), 1e-15));
+                for k in 0..n {
+                    // J_θ: perturb q_k.
+                    let pos = |dq: f64| {
+                        let mut qq = q.clone();
+                        qq[k] += dq;
+                        cp.position(&base, &base.forward(&qq).unwrap())
+                    };
+                    let fd = (pos(H) - pos(-H)) / (2.0 * H);
+                    assert!(
+                        close(jac.j_theta[k], fd, FD_TOL),
+                        "{name} J_θ[{k}] link {link}: {:?} vs {fd:?}",
+                        jac.j_theta[k]
+                    );
+                    // J_a and J_d: perturb the row's a or d, or the cut value on the own row.
+                    for which in ["a", "d"] {
+                        let pos = |delta: f64| {
+                            let mut r = base.clone();
+                            let mut p = cp;
+                            if k + 1 == link {
+                                if which == "a" {
+                                    p.a += delta
+                                } else {
+                                    p.d += delta
+                                }
+                            } else if which == "a" {
+                                r.joints[k].a += delta;
+                            } else {
+                                r.joints[k].d += delta;
+                            }
+                            p.position(&r, &r.forward(&q).unwrap())
+                        };
+                        let fd = (pos(H) - pos(-H)) / (2.0 * H);
+                        let col = if which == "a" { jac.j_a[k] } else { jac.j_d[k] };
+                        if k + 1 > link {
+                            assert_eq!(col, DVec3::ZERO, "{name} J_{which}[{k}] past link {link}");
+                        }
+                        assert!(
+                            close(col, fd, FD_TOL),
+                            "{name} J_{which}[{k}] link {link}: {col:?} vs {fd:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn jacobian_rates_match_finite_differences_on_every_preset() {
+    let mut rng = Rng::new(12);
+    for name in presets::NAMES {
+        let r = robot(name);
+        let n = r.dof();
+        for _ in 0..6 {
+            let q = random_q(&r, &mut rng);
+            let qdot: Vec<f64> = (0..n).map(|_| rng.range(-1.0, 1.0)).collect();
+            let frames = r.forward_with_velocity(&q, &qdot).unwrap();
+            for link in 1..=n {
+                let cp = random_point(&r, &frames, link, &mut rng);
+                let (ar, dr) = (rng.range(-0.5, 0.5), rng.range(-0.5, 0.5));
+                let rates = cp.jacobian_rates(&r, &frames, ar, dr).unwrap();
+                let at = |t: f64| {
+                    let qq: Vec<f64> = q.iter().zip(&qdot).map(|(a, b)| a + t * b).collect();
+                    let p = DhPoint {
+                        link,
+                        a: cp.a + t * ar,
+                        d: cp.d + t * dr,
+                    };
+                    p.jacobians(&r, &r.forward(&qq).unwrap())
+                };
+                let (jp, jm) = (at(H), at(-H));
+                let j0 = cp.jacobians(&r, &frames);
+                let v_fd = (jp.position - jm.position) / (2.0 * H);
+                assert!(close(rates.velocity, v_fd, FD_TOL), "{name} ṗ link {link}");
+                for k in 0..n {
+                    for (what, exact, plus, minus) in [
+                        ("θ", rates.j_theta_dot[k], jp.j_theta[k], jm.j_theta[k]),
+                        ("a", rates.j_a_dot[k], jp.j_a[k], jm.j_a[k]),
+                        ("d", rates.j_d_dot[k], jp.j_d[k], jm.j_d[k]),
+                    ] {
+                        let fd = (plus - minus) / (2.0 * H);
+                        assert!(
+                            close(exact, fd, 1e-6),
+                            "{name} dJ_{what}/dt[{k}] link {link}: {exact:?} vs {fd:?}"
+                        );
+                    }
+                }
+                // eq. 3: ṗ = J_θ θ̇ + J_a ȧ + J_d ḋ
+                let mut v = j0.j_a[link - 1] * ar + j0.j_d[link - 1] * dr;
+                for (c, qd) in j0.j_theta.iter().zip(&qdot) {
+                    v += *c * *qd;
+                }
+                assert!(close(v, rates.velocity, 1e-12));
+            }
+        }
+    }
+}
+
+/// The same robot rewritten in Craig's modified convention: row i takes
+/// `a_{i-1}, α_{i-1}` from the standard row before it; the last `a, α` go
+/// into the tool.
+fn to_modified(spec: &RobotSpec) -> RobotSpec {
+    let mut out = spec.clone();
+    out.convention = Convention::Modified;
+    let rows = &spec.joints;
+    out.joints = rows
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            let (a, alpha) = if i == 0 {
+                (0.0, 0.0)
+            } else {
+                (rows[i - 1].a, rows[i - 1].alpha)
+            };
+            JointSpec {
+                a,
+                alpha,
+                ..row.clone()
+            }
+        })
+        .collect();
+    let last = rows.last().unwrap();
+    let tool =
+        DAffine3::from_translation(DVec3::X * last.a) * DAffine3::from_rotation_x(last.alpha);
+    let (_, rot, pos) = tool.to_scale_rotation_translation();
+    out.tool = Some(PoseSpec {
+        position: pos.to_array(),
+        rotation: rot.to_array(),
+    });
+    out
+}
+
+#[test]
+fn standard_and_modified_dh_give_the_same_end_effector() {
+    let mut rng = Rng::new(3);
+    for name in ["planar3", "lwr4", "ur5"] {
+        let spec = presets::preset(name).unwrap();
+        let std_robot = Robot::from_spec(&spec).unwrap();
+        let mod_robot = Robot::from_spec(&to_modified(&spec)).unwrap();
+        for _ in 0..50 {
+            let q = random_q(&std_robot, &mut rng);
+            let a = std_robot.forward(&q).unwrap().end_effector();
+            let b = mod_robot.forward(&q).unwrap().end_effector();
+            assert!(a.abs_diff_eq(b, 1e-12), "{name}: {a:?} vs {b:?}");
+        }
+    }
+}
+
+#[test]
+fn paper_planar_example_middle_of_link_3() {
+    // §III-B: links 0.4 / 0.3 / 0.2 m; the middle of link 3 is (3, 0, 0.1),
+    // i.e. a = [0.4, 0.3, 0.1].
+    let r = robot("planar3");
+    let q = [0.3, -0.7, 1.1];
+    let frames = r.forward(&q).unwrap();
+    let skel = Skeleton::build(&r, &frames);
+    assert_eq!(skel.nodes.len(), 4);
+    assert_eq!(skel.segments.len(), 3);
+    let seg = skel.segments.iter().position(|s| s.link == 3).unwrap();
+    let p = DhPoint::from_skeleton(&r, &frames, &skel, seg, 0.5).unwrap();
+    assert_eq!(p.link, 3);
+    assert!((p.a - 0.1).abs() < 1e-15 && p.d == 0.0);
+    let (n0, n1) = skel.endpoints(&skel.segments[seg]);
+    assert!(close(p.position(&r, &frames), (n0 + n1) / 2.0, 1e-15));
+    let (s, t) = p.to_skeleton(&r, &frames, &skel).unwrap();
+    assert_eq!(s, seg);
+    assert!((t - 0.5).abs() < 1e-15);
+    // Closed form of the planar arm.
+    let (t1, t12) = (q[0], q[0] + q[1]);
+    let t123 = t12 + q[2];
+    let ee = DVec3::new(
+        0.4 * t1.cos() + 0.3 * t12.cos() + 0.2 * t123.cos(),
+        0.4 * t1.sin() + 0.3 * t12.sin() + 0.2 * t123.sin(),
+        0.0,
+    );
+    assert!(close(frames.end_effector().translation, ee, 1e-15));
+}
+
+#[test]
+fn skeletons_of_every_preset() {
+    let expected = [
+        ("planar3", 4, 3),
+        ("lwr4", 5, 4),
+        ("panda", 8, 7),
+        ("ur5", 7, 6),
+        ("dual-arm", 10, 9),
+    ];
+    let mut rng = Rng::new(5);
+    for (name, nodes, segments) in expected {
+        let r = robot(name);
+        for _ in 0..20 {
+            let q = random_q(&r, &mut rng);
+            let frames = r.forward(&q).unwrap();
+            let skel = Skeleton::build(&r, &frames);
+            assert_eq!(skel.nodes.len(), nodes, "{name} nodes");
+            assert_eq!(skel.segments.len(), segments, "{name} segments");
+            for i in 0..skel.nodes.len() {
+                for j in i + 1..skel.nodes.len() {
+                    assert!(
+                        skel.nodes[i].distance(skel.nodes[j]) > 1e-6,
+                        "{name}: nodes {i} and {j} coincide"
+                    );
+                }
+            }
+            for k in 0..=r.dof() {
+                let o = frames.origin(k);
+                let (_, _, c) = skel.closest_point(o).unwrap();
+                assert!(
+                    o.distance(c) < 1e-12,
+                    "{name}: frame {k} is off the skeleton"
+                );
+            }
+            // Every skeleton point maps to DH values and back.
+            for (s, seg) in skel.segments.iter().enumerate() {
+                let t = rng.uniform();
+                let p = DhPoint::from_skeleton(&r, &frames, &skel, s, t).unwrap();
+                p.validate(&r, &frames).unwrap();
+                let (a, b) = skel.endpoints(seg);
+                assert!(
+                    close(p.position(&r, &frames), a.lerp(b, t), 1e-12),
+                    "{name} segment {s}"
+                );
+                let (s2, t2) = p.to_skeleton(&r, &frames, &skel).unwrap();
+                assert_eq!(s2, s);
+                assert!((t2 - t).abs() < 1e-9);
+            }
+        }
+    }
+}
+
+#[test]
+fn extension_behind_the_joint_is_on_the_skeleton() {
+    let mut spec = presets::preset("planar3").unwrap();
+    spec.joints[1].extension = Some(0.1);
+    let r = Robot::from_spec(&spec).unwrap();
+    let frames = r.forward(&[0.2, 0.4, -0.3]).unwrap();
+    let skel = Skeleton::build(&r, &frames);
+    assert_eq!(skel.segments.len(), 4);
+    let p = DhPoint {
+        link: 2,
+        d: 0.0,
+        a: -0.05,
+    };
+    p.validate(&r, &frames).unwrap();
+    let (s, t) = p.to_skeleton(&r, &frames, &skel).unwrap();
+    assert!((t - 0.5).abs() < 1e-12);
+    let (a, b) = skel.endpoints(&skel.segments[s]);
+    assert!(close(p.position(&r, &frames), a.lerp(b, t), 1e-12));
+}
+
+#[test]
+fn clik_converges_on_reachable_targets() {
+    let mut rng = Rng::new(21);
+    for name in ["planar3", "lwr4", "panda", "ur5"] {
+        let r = robot(name);
+        let mut converged = 0;
+        let trials = 10;
+        for _ in 0..trials {
+            let goal_q = random_q(&r, &mut rng);
+            let frames = r.forward(&goal_q).unwrap();
+            let target = frames.end_effectors[0].translation;
+            let n = r.dof();
+            let ee = DhPoint {
+                link: n,
+                d: frames.d[n - 1],
+                a: r.joints[n - 1].a,
+            };
+            assert!(close(ee.position(&r, &frames), target, 1e-12));
+            // Start near the goal configuration so the target is reachable on the way.
+            let q0: Vec<f64> = goal_q.iter().map(|v| v + rng.range(-0.3, 0.3)).collect();
+            let mut q0 = q0;
+            r.clamp_to_limits(&mut q0);
+            let res = ik::solve_position(&r, &q0, &ee, target, &SolveOptions::default()).unwrap();
+            assert!(res.q.iter().all(|v| v.is_finite()));
+            if res.converged {
+                converged += 1;
+            }
+        }
+        assert!(
+            converged >= trials - 1,
+            "{name}: {converged}/{trials} converged"
+        );
+    }
+}
+
+#[test]
+fn clik_stays_bounded_at_singularities() {
+    let r = robot("planar3");
+    let ee = DhPoint {
+        link: 3,
+        d: 0.0,
+        a: 0.2,
+    };
+    // Stretched arm, target beyond reach along the arm and across it.
+    for target in [
+        DVec3::new(1.2, 0.0, 0.0),
+        DVec3::new(0.9, 0.05, 0.0),
+        DVec3::new(0.0, 1.5, 0.0),
+    ] {
+        let opts = SolveOptions {
+            max_steps: 500,
+            ..SolveOptions::default()
+        };
+        let res = ik::solve_position(&r, &[0.0, 0.0, 0.0], &ee, target, &opts).unwrap();
+        assert!(res.q.iter().all(|v| v.is_finite()));
+        // With λ_max = ε the damped solution obeys ‖θ̇‖ ≤ ‖K e‖ / ε everywhere;
+        // the error never exceeds |target| + reach (0.9 m).
+        let d = Damping::default();
+        let bound = opts.gain * (target.length() + 0.9) / d.epsilon;
+        assert!(
+            res.max_speed <= bound,
+            "joint speed {} above {bound}",
+            res.max_speed
+        );
+    }
+    // The damped inverse of an exactly singular Jacobian is bounded.
+    let frames = r.forward(&[0.0, 0.0, 0.0]).unwrap();
+    let jac = ee.jacobians(&r, &frames);
+    let inv = ik::dls_inverse(&Mat::from_columns3(&jac.j_theta), &[], Damping::default());
+    assert!(inv.sigma_min < 1e-9 && inv.lambda > 0.0);
+    assert!(
+        inv.inverse
+            .data
+            .iter()
+            .all(|v| v.is_finite() && v.abs() < 100.0)
+    );
+    // And exact (no damping) when well conditioned: J J^† = I.
+    let frames = r.forward(&[0.3, 0.8, 0.5]).unwrap();
+    let jac = ee.jacobians(&r, &frames);
+    let j = Mat::from_columns3(&jac.j_theta);
+    let inv = ik::dls_inverse(&j, &[1.0, 2.0, 3.0], Damping::default());
+    // The z direction of a planar arm is singular by design and damped; x-y is exact.
+    assert!(inv.sigma_min < 1e-12);
+    // Planar: the z row is zero, so check the x-y block.
+    let prod = j.mul(&inv.inverse);
+    assert!((prod.get(0, 0) - 1.0).abs() < 1e-9 && prod.get(0, 1).abs() < 1e-9);
+    assert!((prod.get(1, 1) - 1.0).abs() < 1e-9 && prod.get(1, 0).abs() < 1e-9);
+}
+
+#[test]
+fn clik_with_a_moving_control_point_tracks_it() {
+    // First order: with the J_a ȧ term the point holds still while it slides
+    // along link 3 (the arm compensates exactly); without it, it drifts.
+    let r = robot("planar3");
+    let mut q = vec![0.4, 0.9, 0.6];
+    let dt = 1e-3;
+    let mut cp = DhPoint {
+        link: 3,
+        d: 0.0,
+        a: 0.02,
+    };
+    let target = cp.position(&r, &r.forward(&q).unwrap()) + DVec3::new(-0.02, 0.0, 0.0);
+    let motion = ik::PointMotion {
+        a_rate: 0.15,
+        ..Default::default()
+    };
+    for _ in 0..1000 {
+        let frames = r.forward(&q).unwrap();
+        let qd = ik::clik_first_order(
+            &r,
+            &frames,
+            &cp,
+            &motion,
+            target,
+            DVec3::ZERO,
+            50.0,
+            &[],
+            Damping::default(),
+        );
+        for (v, d) in q.iter_mut().zip(&qd) {
+            *v += d * dt;
+        }
+        cp.a = (cp.a + motion.a_rate * dt).min(0.2);
+    }
+    let err = (cp.position(&r, &r.forward(&q).unwrap()) - target).length();
+    assert!(err < 1e-3, "first-order error {err}");
+
+    // Second order with the J̇ terms converges on a point that accelerates along link 2.
+    let mut q = vec![0.4, 0.9, 0.6];
+    let mut qdot = vec![0.0; 3];
+    let mut cp = DhPoint {
+        link: 2,
+        d: 0.0,
+        a: 0.05,
+    };
+    let target = DVec3::new(0.35, 0.35, 0.0);
+    let (mut a_rate, a_accel) = (0.0, 0.2);
+    for _ in 0..3000 {
+        let frames = r.forward_with_velocity(&q, &qdot).unwrap();
+        let motion = ik::PointMotion {
+            a_rate,
+            a_accel,
+            ..Default::default()
+        };
+        let qdd = ik::clik_second_order(
+            &r,
+            &frames,
+            &cp,
+            &motion,
+            target,
+            DVec3::ZERO,
+            DVec3::ZERO,
+            (400.0, 40.0),
+            &[],
+            Damping::default(),
+        )
+        .unwrap();
+        for ((v, w), acc) in q.iter_mut().zip(qdot.iter_mut()).zip(&qdd) {
+            *w += acc * dt;
+            *v += *w * dt;
+        }
+        cp.a += a_rate * dt;
+        a_rate += a_accel * dt;
+        if cp.a > 0.25 {
+            a_rate = 0.0;
+        }
+    }
+    let err = (cp.position(&r, &r.forward(&q).unwrap()) - target).length();
+    assert!(err < 1e-3, "second-order error {err}");
+}
+
+#[test]
+fn bad_input_names_the_field() {
+    let msg = |e: skeleton_avoidance::FieldError| e.to_string();
+    let mut spec = presets::preset("lwr4").unwrap();
+    spec.joints[3].alpha = f64::NAN;
+    assert_eq!(
+        msg(Robot::from_spec(&spec).unwrap_err()),
+        "joints[3].alpha: not a finite number"
+    );
+    let mut spec = presets::preset("lwr4").unwrap();
+    spec.joints.clear();
+    assert_eq!(
+        msg(Robot::from_spec(&spec).unwrap_err()),
+        "joints: the DH table is empty"
+    );
+    let mut spec = presets::preset("lwr4").unwrap();
+    spec.base = Some(PoseSpec {
+        position: [0.0; 3],
+        rotation: [0.0, 0.0, 0.0, 2.0],
+    });
+    assert!(
+        msg(Robot::from_spec(&spec).unwrap_err())
+            .starts_with("base.rotation: quaternion [x, y, z, w] must have unit length")
+    );
+    spec.base = Some(PoseSpec {
+        position: [0.0; 3],
+        rotation: [0.0; 4],
+    });
+    assert!(msg(Robot::from_spec(&spec).unwrap_err()).starts_with("base.rotation: degenerate"));
+    assert!(
+        msg(presets::preset("kuka").unwrap_err()).starts_with("preset: unknown robot \"kuka\"")
+    );
+    let r = robot("lwr4");
+    assert_eq!(
+        msg(r.forward(&[0.0; 6]).unwrap_err()),
+        "q: expected 7 joint values, got 6"
+    );
+    assert_eq!(
+        msg(r
+            .forward(&[0.0, 0.0, f64::INFINITY, 0.0, 0.0, 0.0, 0.0])
+            .unwrap_err()),
+        "q[2]: not a finite number"
+    );
+    let frames = r.forward(&[0.0; 7]).unwrap();
+    assert_eq!(
+        msg(DhPoint {
+            link: 8,
+            d: 0.0,
+            a: 0.0
+        }
+        .validate(&r, &frames)
+        .unwrap_err()),
+        "link: 8 is out of range 1..=7"
+    );
+    assert_eq!(
+        msg(DhPoint {
+            link: 0,
+            d: 0.0,
+            a: 0.0
+        }
+        .validate(&r, &frames)
+        .unwrap_err()),
+        "link: 0 is out of range 1..=7"
+    );
+    assert!(
+        msg(DhPoint {
+            link: 3,
+            d: 0.5,
+            a: 0.0
+        }
+        .validate(&r, &frames)
+        .unwrap_err())
+        .starts_with("d: 0.5 is outside the link's span [0, 0.4]")
+    );
+    assert!(
+        msg(DhPoint {
+            link: 3,
+            d: 0.1,
+            a: 0.1
+        }
+        .validate(&r, &frames)
+        .unwrap_err())
+        .starts_with("a: 0.1 is outside")
+    );
+}
