@@ -1,6 +1,12 @@
 //! The `#[wasm_bindgen]` layer: converts and validates, no logic.
+//!
+//! Every export returns `Result<_, JsError>`; a validation error becomes a JS
+//! `Error` whose message names the field and the reason.
 
 use wasm_bindgen::prelude::*;
+
+mod convert;
+mod kinematics;
 
 /// Installs the panic hook (a last resort: nothing reachable from JS should panic).
 #[wasm_bindgen(start)]

@@ -1,0 +1,65 @@
+// `npm test`: installs what is missing, then runs every test layer and prints
+// one summary line per layer. Exits non-zero when any layer fails.
+//
+//   node scripts/test.mjs [--only fmt,clippy,...]
+import fs from 'node:fs';
+import path from 'node:path';
+import { repo, run, seconds } from './lib.mjs';
+import { ensureTools } from './tools.mjs';
+import { buildWasm } from './build.mjs';
+
+const crate = path.join(repo, 'crate');
+const testFiles = (dir) =>
+  fs.existsSync(path.join(repo, dir))
+    ? fs.readdirSync(path.join(repo, dir)).filter((f) => f.endsWith('.test.mjs')).map((f) => path.join(dir, f))
+    : [];
+
+const layers = [
+  ['fmt', 'cargo fmt --check', () => run('cargo', ['fmt', '--all', '--check'])],
+  ['clippy-native', 'clippy -D warnings, native, all targets', () =>
+    run('cargo', ['clippy', '--workspace', '--all-targets', '--', '-D', 'warnings'])],
+  ['clippy-wasm32', 'clippy -D warnings, wasm32, with the renderer', () =>
+    run('cargo', ['clippy', '--workspace', '--lib', '--tests', '--target', 'wasm32-unknown-unknown', '--all-features', '--', '-D', 'warnings'])],
+  ['cargo-test', 'native unit, integration and doc tests', () => run('cargo', ['test', '--workspace'])],
+  ['wasm-node', 'wasm-pack test --node: the numerics compiled to wasm', () =>
+    // `--lib --test '*'` keeps doctests (native only) out of the wasm run.
+    run('wasm-pack', ['test', '--node', '--mode', 'no-install', '--', '--lib', '--test', '*'], { cwd: crate })],
+  ['js-contract', 'the JS API in Node against crate/pkg-node', () => {
+    if (buildWasm('node') !== 0) return 1;
+    return run('node', ['--test', ...testFiles('tests/node')]);
+  }],
+  ['browser', 'the pages in headless Chromium (WebGPU and WebGL2)', () => {
+    if (buildWasm('web') !== 0) return 1;
+    return run('node', ['--test', '--test-concurrency=1', ...testFiles('tests/browser')]);
+  }],
+];
+
+const only = (() => {
+  const i = process.argv.indexOf('--only');
+  return i > 0 ? new Set(process.argv[i + 1].split(',')) : null;
+})();
+
+const t0 = performance.now();
+const needBrowser = !only || only.has('browser');
+if (!ensureTools({ browser: needBrowser })) {
+  console.error('npm test: the toolchain is incomplete (see above); no layer was run.');
+  process.exit(1);
+}
+console.log(`tools: ready (${seconds(t0)} s)`);
+
+const results = [];
+for (const [name, what, fn] of layers) {
+  if (only && !only.has(name)) continue;
+  console.log(`\n=== ${name}: ${what}`);
+  const t = performance.now();
+  const status = fn();
+  results.push({ name, what, ok: status === 0, time: seconds(t) });
+}
+
+console.log('\n=== summary');
+for (const r of results) {
+  console.log(`${r.ok ? 'PASS' : 'FAIL'}  ${r.name.padEnd(13)} ${r.time.padStart(6)} s  ${r.what}`);
+}
+const failed = results.filter((r) => !r.ok).length;
+console.log(`layers: ${results.length - failed} passed, ${failed} failed`);
+process.exit(failed === 0 ? 0 : 1);

@@ -1,0 +1,101 @@
+// The kinematics part of the public JS contract, against crate/pkg-node.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { createRequire } from 'node:module';
+
+const require = createRequire(import.meta.url);
+const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
+
+const close = (a, b, tol = 1e-12) => Math.abs(a - b) <= tol;
+
+test('robotPreset returns a spec for every documented preset', () => {
+  for (const name of ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm']) {
+    const spec = sa.robotPreset(name);
+    assert.ok(['standard', 'modified'].includes(spec.convention), name);
+    assert.ok(spec.joints.length > 0, name);
+  }
+  assert.deepEqual(sa.robotPreset('planar3').joints.map((j) => j.a), [0.4, 0.3, 0.2]);
+  assert.equal(sa.robotPreset('panda').convention, 'modified');
+  assert.deepEqual(sa.presetNames(), ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm']);
+});
+
+test('forwardKinematics matches the closed form of the planar arm', () => {
+  const robot = sa.robotPreset('planar3');
+  const vectors = [
+    [0, 0, 0],
+    [0.3, -0.7, 1.1],
+    [Math.PI / 2, Math.PI / 2, -Math.PI / 2],
+    [-2.1, 0.4, 3.0],
+  ];
+  for (const q of vectors) {
+    const fk = sa.forwardKinematics(robot, q);
+    const t1 = q[0], t12 = q[0] + q[1], t123 = q[0] + q[1] + q[2];
+    const x = 0.4 * Math.cos(t1) + 0.3 * Math.cos(t12) + 0.2 * Math.cos(t123);
+    const y = 0.4 * Math.sin(t1) + 0.3 * Math.sin(t12) + 0.2 * Math.sin(t123);
+    const ee = fk.endEffector;
+    assert.equal(ee.length, 4);
+    assert.ok(close(ee[0][3], x) && close(ee[1][3], y) && close(ee[2][3], 0), `q=${q}`);
+    // Rotation about z by θ1+θ2+θ3.
+    assert.ok(close(ee[0][0], Math.cos(t123)) && close(ee[1][0], Math.sin(t123)));
+    assert.deepEqual(ee[3], [0, 0, 0, 1]);
+    assert.equal(fk.origins.length, 4);
+    assert.deepEqual(fk.origins[0], [0, 0, 0]);
+  }
+  // Float64Array and { preset } are accepted too.
+  const fk = sa.forwardKinematics({ preset: 'planar3' }, new Float64Array([0, 0, 0]));
+  assert.ok(close(fk.endEffector[0][3], 0.9));
+});
+
+test('skeleton and controlPoint follow the contract', () => {
+  const robot = sa.robotPreset('lwr4');
+  const q = [0.1, 0.5, -0.2, -1.2, 0.3, 0.8, 0];
+  const sk = sa.skeleton(robot, q);
+  assert.equal(sk.nodes.length, 5);
+  assert.equal(sk.segments.length, 4);
+  for (const s of sk.segments) {
+    assert.ok(s.link >= 1 && s.link <= 7 && s.radius.length === 2);
+  }
+  const cp = sa.controlPoint(robot, q, { link: 3, d: 0.2, a: 0 });
+  assert.equal(cp.jTheta.length, 3);
+  assert.equal(cp.jTheta[0].length, 7);
+  for (const m of [cp.jTheta, cp.jA, cp.jD]) {
+    for (const row of m) for (let k = 3; k < 7; k++) assert.equal(row[k], 0);
+  }
+  // J_θ against a finite difference of the position.
+  const h = 1e-6;
+  for (let k = 0; k < 3; k++) {
+    const qp = q.slice(); qp[k] += h;
+    const qm = q.slice(); qm[k] -= h;
+    const pp = sa.controlPoint(robot, qp, { link: 3, d: 0.2, a: 0 }).position;
+    const pm = sa.controlPoint(robot, qm, { link: 3, d: 0.2, a: 0 }).position;
+    for (let r = 0; r < 3; r++) {
+      assert.ok(close((pp[r] - pm[r]) / (2 * h), cp.jTheta[r][k], 1e-7));
+    }
+  }
+  // The paper's planar example: the middle of link 3 is (3, 0, 0.1).
+  const planar = sa.robotPreset('planar3');
+  const mid = sa.skeletonPoint(planar, [0.3, -0.7, 1.1], { segment: 2, t: 0.5 });
+  assert.equal(mid.link, 3);
+  assert.ok(close(mid.a, 0.1) && mid.d === 0);
+});
+
+test('bad input throws an Error naming the field', () => {
+  const robot = sa.robotPreset('lwr4');
+  const throwsWith = (fn, re) => assert.throws(fn, (e) => e instanceof Error && re.test(e.message));
+  throwsWith(() => sa.forwardKinematics(robot, [0, 0, 0]), /^q: expected 7 joint values, got 3/);
+  throwsWith(() => sa.forwardKinematics(robot, [0, 0, NaN, 0, 0, 0, 0]), /^q\[2\]: not a finite number/);
+  throwsWith(() => sa.forwardKinematics(robot, 'hello'), /^q: expected an array/);
+  throwsWith(() => sa.forwardKinematics(robot, [0, 0, 'x', 0, 0, 0, 0]), /^q\[2\]: not a number/);
+  throwsWith(() => sa.forwardKinematics(robot, undefined), /^q: expected an array/);
+  const bad = structuredClone(robot);
+  bad.joints[3].alpha = NaN;
+  throwsWith(() => sa.forwardKinematics(bad, [0, 0, 0, 0, 0, 0, 0]), /^joints\[3\]\.alpha: not a finite number/);
+  bad.joints[3].alpha = 'x';
+  throwsWith(() => sa.forwardKinematics(bad, [0, 0, 0, 0, 0, 0, 0]), /^joints\[3\]\.alpha: invalid type/);
+  throwsWith(() => sa.forwardKinematics({ convention: 'standard', joints: [] }, []), /^joints: the DH table is empty/);
+  throwsWith(() => sa.robotPreset('kuka'), /^preset: unknown robot "kuka"/);
+  throwsWith(() => sa.forwardKinematics({ ...robot, base: { position: [0, 0, 0], rotation: [0, 0, 0, 0] } }, [0, 0, 0, 0, 0, 0, 0]), /^base\.rotation: degenerate/);
+  throwsWith(() => sa.controlPoint(robot, [0, 0, 0, 0, 0, 0, 0], { link: 9, d: 0, a: 0 }), /^point\.link: 9 is out of range 1\.\.=7/);
+  throwsWith(() => sa.controlPoint(robot, [0, 0, 0, 0, 0, 0, 0], { link: 3, d: 0.5, a: 0 }), /^point\.d: 0\.5 is outside the link's span/);
+  throwsWith(() => sa.forwardKinematics(42, [0]), /^robot: invalid type/);
+});
