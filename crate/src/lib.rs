@@ -44,6 +44,7 @@ pub mod error;
 pub mod kinematics;
 pub mod rng;
 pub mod skeleton;
+pub mod workloads;
 
 #[cfg(all(target_arch = "wasm32", feature = "render"))]
 pub mod render;

@@ -254,3 +254,16 @@ pub fn skeleton_point(robot_spec: JsValue, q: JsValue, at: JsValue) -> Result<Js
         position: p.position(&r, &f).to_array(),
     })
 }
+
+/// Runs the `KinematicsStep` benchmark workload (FK, skeleton, 8 control-point
+/// Jacobians) `iterations` times for preset `name` inside wasm; returns a
+/// checksum. Node times the call (`npm run bench`).
+#[wasm_bindgen(js_name = benchKinematicsStep)]
+pub fn bench_kinematics_step(name: &str, iterations: u32) -> Result<f64, JsError> {
+    let mut w = crate::workloads::KinematicsStep::new(name, 64).map_err(|e| js_error(&e))?;
+    let mut sum = 0.0;
+    for _ in 0..iterations {
+        sum += w.run();
+    }
+    Ok(sum)
+}

@@ -1,0 +1,65 @@
+//! Fixed workloads shared by the native benchmarks (criterion) and the wasm
+//! benchmarks (Node), so that both measure exactly the same code.
+
+use crate::control_point::{DhPoint, PointJacobians};
+use crate::error::FieldError;
+use crate::kinematics::{Frames, Robot, presets};
+use crate::rng::Rng;
+use crate::skeleton::Skeleton;
+
+/// One control step's kinematics for a robot: forward kinematics, skeleton,
+/// and the Jacobians `J_θ`, `J_a`, `J_d` of 8 control points spread over the
+/// skeleton, at a sequence of configurations.
+#[derive(Debug)]
+pub struct KinematicsStep {
+    robot: Robot,
+    configs: Vec<Vec<f64>>,
+    frames: Frames,
+    skeleton: Skeleton,
+    points: Vec<DhPoint>,
+    jacobians: Vec<PointJacobians>,
+    next: usize,
+}
+
+impl KinematicsStep {
+    /// The workload for preset `name` with `configs` random configurations.
+    ///
+    /// # Errors
+    /// An unknown preset.
+    pub fn new(name: &str, configs: usize) -> Result<Self, FieldError> {
+        let robot = Robot::from_spec(&presets::preset(name)?)?;
+        let mut rng = Rng::new(1);
+        let configs: Vec<Vec<f64>> = (0..configs.max(1))
+            .map(|_| robot.joints.iter().map(|_| rng.range(-1.5, 1.5)).collect())
+            .collect();
+        let frames = robot.forward(&configs[0])?;
+        let skeleton = Skeleton::build(&robot, &frames);
+        let count = skeleton.segments.len().max(1);
+        let points = (0..8)
+            .map(|k| {
+                let seg = k % count;
+                let t = 0.25 + 0.5 * (k / count) as f64 / (8 / count).max(1) as f64;
+                DhPoint::from_skeleton(&robot, &frames, &skeleton, seg, t.min(1.0))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let jacobians = vec![PointJacobians::default(); points.len()];
+        Ok(Self { robot, configs, frames, skeleton, points, jacobians, next: 0 })
+    }
+
+    /// Runs one step at the next configuration; returns a checksum so that
+    /// nothing is optimised away.
+    pub fn run(&mut self) -> f64 {
+        let q = &self.configs[self.next];
+        self.next = (self.next + 1) % self.configs.len();
+        if self.robot.forward_into(q, &mut self.frames).is_err() {
+            return f64::NAN;
+        }
+        self.skeleton.build_into(&self.robot, &self.frames);
+        let mut sum = self.skeleton.nodes.len() as f64;
+        for (p, j) in self.points.iter().zip(self.jacobians.iter_mut()) {
+            p.jacobians_into(&self.robot, &self.frames, j);
+            sum += j.position.x + j.j_theta[0].y + j.j_a[0].z + j.j_d[0].x;
+        }
+        sum
+    }
+}
