@@ -1,0 +1,148 @@
+// The first slice in a real browser: the planar 3-link arm drawn by the wgpu
+// renderer on each backend, moved by a slider with real mouse input.
+//
+// Screenshots go to tests/artifacts/ (git-ignored): look at them.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { serve } from '../../scripts/serve.mjs';
+import { launch, collectErrors, frames } from './chromium.mjs';
+import { decodePng, pixel } from './png.mjs';
+
+const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const artifacts = path.join(repo, 'tests', 'artifacts');
+
+/** The page's background, sRGB (0.96, 0.965, 0.975) in bytes. */
+const BACKGROUND = [245, 246, 249];
+
+let server;
+let baseUrl;
+
+before(async () => {
+  fs.mkdirSync(artifacts, { recursive: true });
+  ({ server, url: baseUrl } = await serve({ port: 0 }));
+});
+
+after(() => new Promise((resolve) => server.close(resolve)));
+
+/** Distance between two colours (sum of absolute channel differences). */
+function colourDistance(a, b) {
+  return Math.abs(a[0] - b[0]) + Math.abs(a[1] - b[1]) + Math.abs(a[2] - b[2]);
+}
+
+/** Points along every link of the arm, in canvas pixels (quarter, half, three quarters). */
+function linkPoints(screenNodes) {
+  const points = [];
+  for (let i = 0; i + 1 < screenNodes.length; i++) {
+    const [a, b] = [screenNodes[i], screenNodes[i + 1]];
+    for (const t of [0.3, 0.5, 0.7]) points.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+  }
+  return points;
+}
+
+async function screenshot(page, name) {
+  const png = await page.locator('#view').screenshot();
+  fs.writeFileSync(path.join(artifacts, name), png);
+  return decodePng(png);
+}
+
+for (const backend of ['webgpu', 'webgl2']) {
+  test(`planar arm is drawn and follows a slider (${backend})`, async () => {
+    const browser = await launch({ webgpu: true });
+    try {
+      const page = await browser.context.newPage();
+      const errors = collectErrors(page);
+      await page.goto(`${baseUrl}?backend=${backend}`);
+      await page.evaluate(() => window.playground.ready);
+      assert.equal(await page.evaluate(() => window.playground.backend), backend);
+      await frames(page, 3);
+
+      const before = await page.evaluate(() => window.playground.state());
+      assert.equal(before.backend, backend);
+      assert.equal(before.dof, 3);
+      assert.equal(before.view, 'top', 'a planar arm gets the 2D top view');
+      assert.equal(before.screenNodes.length, 4);
+      const box = await page.locator('#view').boundingBox();
+      assert.equal(Math.round(box.width), before.width, 'device pixel ratio 1: CSS px = buffer px');
+
+      const shot1 = await screenshot(page, `arm-${backend}-1-start.png`);
+      // The background reads the same colour on both backends (surface format handled).
+      assert.ok(colourDistance(pixel(shot1, 3, 3), BACKGROUND) <= 6,
+        `background ${pixel(shot1, 3, 3)} is not ${BACKGROUND}`);
+      const armBefore = linkPoints(before.screenNodes);
+      for (const [x, y] of armBefore) {
+        const c = pixel(shot1, x, y);
+        assert.ok(colourDistance(c, BACKGROUND) > 60, `no arm at (${x.toFixed(0)}, ${y.toFixed(0)}): ${c}`);
+      }
+
+      // Real input: click three quarters along the first joint's slider (≈ +π/2).
+      const slider = page.locator('#joint-0');
+      const sb = await slider.boundingBox();
+      await page.mouse.click(sb.x + 0.75 * sb.width, sb.y + sb.height / 2);
+      await frames(page, 3);
+      const after = await page.evaluate(() => window.playground.state());
+      assert.ok(after.q[0] > 1.0 && after.q[0] < 2.2, `q1 = ${after.q[0]}`);
+      const shot2 = await screenshot(page, `arm-${backend}-2-moved.png`);
+
+      let changed = 0;
+      for (const [x, y] of armBefore) {
+        if (colourDistance(pixel(shot1, x, y), pixel(shot2, x, y)) > 60) changed += 1;
+      }
+      assert.ok(changed >= armBefore.length - 1, `only ${changed}/${armBefore.length} arm pixels changed`);
+      for (const [x, y] of linkPoints(after.screenNodes)) {
+        const c = pixel(shot2, x, y);
+        assert.ok(colourDistance(c, BACKGROUND) > 60, `moved arm missing at (${x.toFixed(0)}, ${y.toFixed(0)}): ${c}`);
+      }
+
+      // The 3D view draws too (orbit camera, perspective).
+      await page.selectOption('#view-select', '3d');
+      await frames(page, 3);
+      const shot3 = await screenshot(page, `arm-${backend}-3-orbit.png`);
+      const state3 = await page.evaluate(() => window.playground.state());
+      assert.equal(state3.view, '3d');
+      const [mx, my] = linkPoints(state3.screenNodes)[1];
+      assert.ok(colourDistance(pixel(shot3, mx, my), BACKGROUND) > 60, 'arm missing in the 3D view');
+
+      const status = await page.locator('#status').textContent();
+      assert.match(status, backend === 'webgpu' ? /WebGPU/ : /WebGL2/);
+      assert.equal(await page.locator('#error').isHidden(), true);
+      assert.deepEqual(errors, []);
+    } finally {
+      await browser.close();
+    }
+  });
+}
+
+test('without WebGPU, asking for it shows a readable error on the page', async () => {
+  const browser = await launch({ webgpu: false });
+  try {
+    const page = await browser.context.newPage();
+    await page.goto(`${baseUrl}?backend=webgpu`);
+    const failure = await page.evaluate(() => window.playground.ready.then(() => null, (e) => String(e.message ?? e)));
+    assert.ok(failure, 'ready should reject');
+    const box = page.locator('#error');
+    assert.equal(await box.isVisible(), true);
+    const text = await box.textContent();
+    assert.match(text, /could not start/);
+    assert.match(text, /WebGPU/);
+    await page.locator('main').screenshot({ path: path.join(artifacts, 'no-webgpu-error.png') });
+  } finally {
+    await browser.close();
+  }
+});
+
+test('the page falls back to WebGL2 when WebGPU is missing', async () => {
+  const browser = await launch({ webgpu: false });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await page.goto(baseUrl);
+    await page.evaluate(() => window.playground.ready);
+    assert.equal(await page.evaluate(() => window.playground.backend), 'webgl2');
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
