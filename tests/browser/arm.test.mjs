@@ -146,3 +146,18 @@ test('the page falls back to WebGL2 when WebGPU is missing', async () => {
     await browser.close();
   }
 });
+
+test('with neither WebGPU nor WebGL2 the page says so', async () => {
+  const browser = await launch({ webgpu: false, extraArgs: ['--disable-3d-apis'] });
+  try {
+    const page = await browser.context.newPage();
+    await page.goto(baseUrl);
+    const failure = await page.evaluate(() => window.playground.ready.then(() => null, (e) => String(e.message ?? e)));
+    assert.match(failure ?? '', /neither WebGPU nor WebGL2/);
+    const text = await page.locator('#error').textContent();
+    assert.match(text, /neither WebGPU nor WebGL2/);
+    await page.locator('main').screenshot({ path: path.join(artifacts, 'no-graphics-error.png') });
+  } finally {
+    await browser.close();
+  }
+});

@@ -29,14 +29,15 @@ const WEBGPU = [
 
 /**
  * A fresh persistent context (its own temporary profile, removed by `close`).
- * `webgpu: false` leaves WebGPU off (WebGL2 still works through SwiftShader).
+ * `webgpu: false` leaves WebGPU off (WebGL2 still works through SwiftShader);
+ * `extraArgs` are appended (e.g. `--disable-3d-apis` for a browser without either).
  */
-export async function launch({ webgpu = true, viewport = { width: 1000, height: 700 } } = {}) {
+export async function launch({ webgpu = true, extraArgs = [], viewport = { width: 1000, height: 700 } } = {}) {
   const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'skeleton-chromium-'));
   const context = await chromium.launchPersistentContext(profile, {
     executablePath: CHROMIUM,
     headless: true,
-    args: webgpu ? [...HYGIENE, ...WEBGPU] : HYGIENE,
+    args: [...HYGIENE, ...(webgpu ? WEBGPU : []), ...extraArgs],
     viewport,
     deviceScaleFactor: 1,
   });

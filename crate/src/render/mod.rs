@@ -222,7 +222,11 @@ impl Renderer {
                 // With WebGPU missing the GL path is the only one; a canvas
                 // without a WebGL2 context means the browser lacks both.
                 BackendRequest::WebGpu => RenderError::NoAdapter { requested },
-                _ if e.to_string().contains("WebGL2") => RenderError::NoAdapter { requested },
+                // wgpu reports `canvas.getContext() returned null; webgl2 not
+                // available …`: the browser has no WebGL2 (or it is disabled).
+                _ if e.to_string().to_lowercase().contains("webgl2 not available") => {
+                    RenderError::NoAdapter { requested }
+                }
                 _ => RenderError::Surface(e.to_string()),
             })?;
         let adapter = instance
