@@ -218,16 +218,17 @@ impl Renderer {
         let (width, height) = (canvas.width().max(1), canvas.height().max(1));
         let surface = instance
             .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
-            .map_err(|e| match request {
-                // With WebGPU missing the GL path is the only one; a canvas
-                // without a WebGL2 context means the browser lacks both.
-                BackendRequest::WebGpu => RenderError::NoAdapter { requested },
+            .map_err(|e| {
+                let message = e.to_string();
+                // With WebGPU requested, a failure means no WebGPU. Otherwise
                 // wgpu reports `canvas.getContext() returned null; webgl2 not
                 // available …`: the browser has no WebGL2 (or it is disabled).
-                _ if e.to_string().to_lowercase().contains("webgl2 not available") => {
+                let no_webgl2 = message.to_lowercase().contains("webgl2 not available");
+                if request == BackendRequest::WebGpu || no_webgl2 {
                     RenderError::NoAdapter { requested }
+                } else {
+                    RenderError::Surface(message)
                 }
-                _ => RenderError::Surface(e.to_string()),
             })?;
         let adapter = instance
             .request_adapter(&wgpu::RequestAdapterOptions {
