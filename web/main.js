@@ -11,7 +11,6 @@ const jointsBox = document.getElementById('joints');
 let viewer = null;
 let q = new Float64Array(0);
 let viewChoice = params.get('view') ?? 'auto';
-let autoView = '3d'; // the view setRobot chose for the robot
 
 /** Shows a failure to the person (as text, never as HTML) and logs it. */
 function showError(message) {
@@ -91,7 +90,7 @@ function wireCamera() {
   select.addEventListener('change', () => {
     viewChoice = select.value;
     try {
-      viewer.setView(viewChoice === 'auto' ? autoView : viewChoice);
+      viewer.setView(viewChoice);
     } catch (err) {
       showError(errorText(err));
     }
@@ -128,7 +127,6 @@ async function start() {
   const backend = params.get('backend') ?? 'auto';
   viewer = await Viewer.create(canvas, { backend, view: viewChoice });
   viewer.setRobot({ preset: 'planar3' });
-  autoView = viewer.view;
   q = new Float64Array(viewer.dof);
   buildSliders(viewer.dof);
   wireCamera();
@@ -146,6 +144,10 @@ const playground = {
   ready,
   /** `"webgpu"` or `"webgl2"` once ready. */
   backend: null,
+  /** The wasm `Viewer` once ready (for tests and the console). */
+  get viewer() {
+    return viewer;
+  },
   /** A snapshot: backend, q, nodes, screenNodes, view, surface format… */
   state() {
     return viewer ? { ...viewer.state(), frames } : { backend: null, frames };

@@ -67,6 +67,15 @@ for (const backend of ['webgpu', 'webgl2']) {
       const box = await page.locator('#view').boundingBox();
       assert.equal(Math.round(box.width), before.width, 'device pixel ratio 1: CSS px = buffer px');
 
+      // Picking: the ray through the end effector's pixel passes through it.
+      const tip = before.nodes[3];
+      const ray = await page.evaluate(([x, y]) => window.playground.viewer.rayAt(x, y), before.screenNodes[3]);
+      const rel = tip.map((t, k) => t - ray.origin[k]);
+      const along = rel.reduce((acc, r, k) => acc + r * ray.direction[k], 0);
+      const miss = Math.hypot(...rel.map((r, k) => r - along * ray.direction[k]));
+      assert.ok(along > 0 && miss < 2e-3, `ray misses the end effector by ${miss} m`);
+
+      await page.screenshot({ path: path.join(artifacts, `page-${backend}.png`) });
       const shot1 = await screenshot(page, `arm-${backend}-1-start.png`);
       // The background reads the same colour on both backends (surface format handled).
       assert.ok(colourDistance(pixel(shot1, 3, 3), BACKGROUND) <= 6,
@@ -157,6 +166,62 @@ test('with neither WebGPU nor WebGL2 the page says so', async () => {
     const text = await page.locator('#error').textContent();
     assert.match(text, /neither WebGPU nor WebGL2/);
     await page.locator('main').screenshot({ path: path.join(artifacts, 'no-graphics-error.png') });
+  } finally {
+    await browser.close();
+  }
+});
+
+test('the Viewer rejects bad input with an Error naming the problem', async () => {
+  const browser = await launch({ webgpu: false });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await page.goto(`${baseUrl}?backend=webgl2`);
+    await page.evaluate(() => window.playground.ready);
+    const messages = await page.evaluate(async () => {
+      const { Viewer } = await import('/pkg/skeleton_avoidance.js');
+      const v = window.playground.viewer;
+      const message = (f) => {
+        try {
+          f();
+          return null;
+        } catch (e) {
+          return e instanceof Error ? e.message : `not an Error: ${e}`;
+        }
+      };
+      const rejection = (p) => p.then(() => null, (e) => (e instanceof Error ? e.message : `not an Error: ${e}`));
+      return {
+        shortQ: message(() => v.setJoints([0, 1])),
+        nanQ: message(() => v.setJoints([0, NaN, 0])),
+        stringQ: message(() => v.setJoints('0,0,0')),
+        wordInQ: message(() => v.setJoints([0, 'x', 0])),
+        preset: message(() => v.setRobot({ preset: 'nope' })),
+        display: message(() => v.setDisplay({ volume: true })),
+        displayType: message(() => v.setDisplay({ nodes: 'yes' })),
+        displayArray: message(() => v.setDisplay([true])),
+        view: message(() => v.setView('sideways')),
+        zoom: message(() => v.zoom(0)),
+        resize: message(() => v.resize(NaN, 10)),
+        notCanvas: await rejection(Viewer.create(document.body, {})),
+        backend: await rejection(Viewer.create(document.createElement('canvas'), { backend: 'vulkan' })),
+        stillDrawing: window.playground.state().q,
+      };
+    });
+    assert.match(messages.shortQ, /q: expected 3 values, got 2/);
+    assert.match(messages.nanQ, /q\[1\]: not a finite number/);
+    assert.match(messages.stringQ, /q: expected an array or Float64Array/);
+    assert.match(messages.wordInQ, /q\[1\]: not a number/);
+    assert.match(messages.preset, /robot\.preset: unknown preset "nope"/);
+    assert.match(messages.display, /display\.volume: unknown field/);
+    assert.match(messages.displayType, /display\.nodes: invalid type/);
+    assert.match(messages.displayArray, /display: expected an object/);
+    assert.match(messages.view, /view: expected .*"sideways"/);
+    assert.match(messages.zoom, /zoom\.factor: must be > 0/);
+    assert.match(messages.resize, /width: not a finite number/);
+    assert.match(messages.notCanvas, /canvas: not an HTMLCanvasElement/);
+    assert.match(messages.backend, /options\.backend: expected .*"vulkan"/);
+    assert.deepEqual(messages.stillDrawing, [0, 0, 0], 'a rejected input leaves the state untouched');
+    assert.deepEqual(errors, []);
   } finally {
     await browser.close();
   }

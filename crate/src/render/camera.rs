@@ -206,6 +206,23 @@ impl Camera {
         let ndc = clip.truncate() / clip.w;
         Some([(ndc.x + 1.0) * 0.5 * width, (1.0 - ndc.y) * 0.5 * height])
     }
+
+    /// The ray through pixel (`x`, `y`) of a `width` × `height` drawing
+    /// buffer (pixels from the top-left corner): its origin on the near plane
+    /// and its unit direction, for picking. `None` for a degenerate camera.
+    #[must_use]
+    pub fn ray(&self, x: f32, y: f32, width: f32, height: f32) -> Option<(Vec3, Vec3)> {
+        let inverse = self.view_proj(width / height).inverse();
+        let ndc_x = 2.0 * x / width.max(1.0) - 1.0;
+        let ndc_y = 1.0 - 2.0 * y / height.max(1.0);
+        let unproject = |z: f32| {
+            let p = inverse * Vec4::new(ndc_x, ndc_y, z, 1.0);
+            (p.w.abs() > 1e-12).then(|| p.truncate() / p.w)
+        };
+        let (near, far) = (unproject(0.0)?, unproject(1.0)?);
+        let direction = (far - near).try_normalize()?;
+        near.is_finite().then_some((near, direction))
+    }
 }
 
 #[cfg(test)]
@@ -232,5 +249,19 @@ mod tests {
         let y = camera.project(Vec3::Y * 0.5, 100.0, 100.0).unwrap();
         assert!(x[0] > 50.0 && (x[1] - 50.0).abs() < 1e-3);
         assert!(y[1] < 50.0 && (y[0] - 50.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn ray_through_a_projected_point_passes_through_it() {
+        for view in [View::Orbit, View::Top, View::Side] {
+            let mut camera = Camera::framing(Vec3::ZERO, 1.0, view);
+            camera.orbit(40.0, -25.0);
+            let point = Vec3::new(0.2, -0.3, 0.1);
+            let [x, y] = camera.project(point, 300.0, 200.0).unwrap();
+            let (origin, direction) = camera.ray(x, y, 300.0, 200.0).unwrap();
+            let along = (point - origin).dot(direction);
+            let miss = (origin + along * direction - point).length();
+            assert!(along > 0.0 && miss < 1e-4, "{view:?}: miss {miss}");
+        }
     }
 }

@@ -15,7 +15,7 @@ use crate::skeleton::Skeleton;
 
 /// Options of `Viewer.create`.
 #[derive(Debug, Default, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default)]
 struct ViewerOptions {
     /// `"auto"` (default), `"webgpu"` or `"webgl2"`.
     backend: Option<String>,
@@ -26,7 +26,7 @@ struct ViewerOptions {
 
 /// What `setDisplay` toggles.
 #[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default)]
 struct Display {
     /// The translucent volumes around the skeleton segments.
     volumes: bool,
@@ -68,6 +68,13 @@ struct ViewerState {
     screen_nodes: Vec<Option<[f32; 2]>>,
 }
 
+/// A picking ray (m, world frame).
+#[derive(Debug, Serialize)]
+struct Ray {
+    origin: [f64; 3],
+    direction: [f64; 3],
+}
+
 const VOLUME_COLOR: [f32; 4] = [0.33, 0.55, 0.85, 0.45];
 const SPINE_COLOR: [f32; 4] = [0.20, 0.24, 0.32, 1.0];
 const NODE_COLOR: [f32; 4] = [0.95, 0.55, 0.15, 1.0];
@@ -91,6 +98,8 @@ pub struct Viewer {
     scene: Scene,
     display: Display,
     fixed_view: Option<View>,
+    /// The view `"auto"` stands for with the current robot.
+    auto_view: View,
     robot: Option<standin::Robot>,
     q: Vec<f64>,
     skeleton: Skeleton,
@@ -116,7 +125,7 @@ impl Viewer {
         let options: ViewerOptions = if options.is_undefined() || options.is_null() {
             ViewerOptions::default()
         } else {
-            from_js(options, "options")?
+            from_js(options, "options", &["backend", "view"])?
         };
         let request = match options.backend.as_deref() {
             None => BackendRequest::Auto,
@@ -140,6 +149,7 @@ impl Viewer {
             scene: Scene::new(),
             display: Display::default(),
             fixed_view,
+            auto_view: View::Orbit,
             robot: None,
             q: Vec::new(),
             skeleton: Skeleton::default(),
@@ -173,11 +183,12 @@ impl Viewer {
         let frames = robot.frames(&q);
         let skeleton = robot.skeleton(&frames);
         let (center, reach) = standin::reach(&robot, &frames);
-        let view = self.fixed_view.unwrap_or(if is_planar(&frames) {
+        self.auto_view = if is_planar(&frames) {
             View::Top
         } else {
             View::Orbit
-        });
+        };
+        let view = self.fixed_view.unwrap_or(self.auto_view);
         self.camera = Camera::framing(center.as_vec3(), reach as f32, view);
         self.robot = Some(robot);
         self.q = q;
@@ -213,18 +224,22 @@ impl Viewer {
     /// An `Error` naming an unknown or mistyped field.
     #[wasm_bindgen(js_name = setDisplay)]
     pub fn set_display(&mut self, display: JsValue) -> Result<(), JsError> {
-        self.display = from_js(display, "display")?;
+        self.display = from_js(display, "display", &["volumes", "nodes", "axes", "grid"])?;
         self.dirty = true;
         Ok(())
     }
 
-    /// Switches the view: `"3d"`, `"top"`, `"front"` or `"side"`.
+    /// Switches the view: `"3d"`, `"top"`, `"front"`, `"side"`, or `"auto"`
+    /// (the 2D top view for a planar robot, else 3D).
     ///
     /// # Errors
     /// An `Error` for any other name.
     #[wasm_bindgen(js_name = setView)]
     pub fn set_view(&mut self, name: &str) -> Result<(), JsError> {
-        self.camera.view = View::parse(name).ok_or_else(|| view_error("view", name))?;
+        self.camera.view = match name {
+            "auto" => self.auto_view,
+            _ => View::parse(name).ok_or_else(|| view_error("view", name))?,
+        };
         self.dirty = true;
         Ok(())
     }
@@ -302,6 +317,27 @@ impl Viewer {
         self.renderer
             .render()
             .map_err(|e| JsError::new(&e.to_string()))
+    }
+
+    /// The picking ray through canvas pixel (`x`, `y`) (drawing-buffer
+    /// pixels from the top-left corner): `{ origin: [x, y, z], direction:
+    /// [x, y, z] }` in the world frame (m), `direction` a unit vector.
+    ///
+    /// # Errors
+    /// An `Error` when a coordinate is not finite.
+    #[wasm_bindgen(js_name = rayAt)]
+    pub fn ray_at(&self, x: f64, y: f64) -> Result<JsValue, JsError> {
+        let (x, y) = (finite_arg("x", x)?, finite_arg("y", y)?);
+        let (width, height) = self.renderer.size();
+        let (origin, direction) = self
+            .camera
+            .ray(x as f32, y as f32, width as f32, height as f32)
+            .ok_or_else(|| JsError::new("rayAt: the camera is degenerate"))?;
+        let ray = Ray {
+            origin: origin.as_dvec3().to_array(),
+            direction: direction.as_dvec3().to_array(),
+        };
+        serde_wasm_bindgen::to_value(&ray).map_err(|e| JsError::new(&e.to_string()))
     }
 
     /// A snapshot for tests and tools: `{ backend, surfaceFormat,
@@ -408,7 +444,26 @@ fn finite_arg(field: &str, x: f64) -> Result<f64, JsError> {
 }
 
 /// Deserializes `value`, naming the offending field under `root` on failure.
-fn from_js<T: serde::de::DeserializeOwned>(value: JsValue, root: &str) -> Result<T, JsError> {
+///
+/// serde-wasm-bindgen reads only the fields a struct names, so an object
+/// with a misspelt key would pass silently: `fields` lists the keys allowed.
+fn from_js<T: serde::de::DeserializeOwned>(
+    value: JsValue,
+    root: &str,
+    fields: &[&str],
+) -> Result<T, JsError> {
+    if !value.is_object() || js_sys::Array::is_array(&value) {
+        return Err(JsError::new(&format!("{root}: expected an object")));
+    }
+    for key in js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>()).iter() {
+        let key = key.as_string().unwrap_or_default();
+        if !fields.contains(&key.as_str()) {
+            return Err(JsError::new(&format!(
+                "{root}.{key}: unknown field (expected one of {})",
+                fields.join(", ")
+            )));
+        }
+    }
     let de = serde_wasm_bindgen::Deserializer::from(value);
     serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
@@ -417,7 +472,10 @@ fn from_js<T: serde::de::DeserializeOwned>(value: JsValue, root: &str) -> Result
         } else {
             format!("{root}.{path}")
         };
-        JsError::new(&format!("{field}: {}", e.inner()))
+        // serde-wasm-bindgen's errors print as JS errors do: "Error: …".
+        let inner = e.inner().to_string();
+        let reason = inner.strip_prefix("Error: ").unwrap_or(&inner);
+        JsError::new(&format!("{field}: {reason}"))
     })
 }
 
