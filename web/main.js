@@ -74,7 +74,8 @@ function wireCamera() {
     const dy = (e.clientY - drag.y) * dpr;
     drag.x = e.clientX;
     drag.y = e.clientY;
-    if (drag.pan) viewer.pan(dx, dy);
+    // The 2D views cannot orbit: a plain drag pans them.
+    if (drag.pan || viewer.view !== '3d') viewer.pan(dx, dy);
     else viewer.orbit(dx, dy);
   });
   const end = () => { drag = null; };

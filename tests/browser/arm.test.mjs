@@ -114,6 +114,26 @@ for (const backend of ['webgpu', 'webgl2']) {
       const [mx, my] = linkPoints(state3.screenNodes)[1];
       assert.ok(colourDistance(pixel(shot3, mx, my), BACKGROUND) > 60, 'arm missing in the 3D view');
 
+      // Camera input with the real mouse: a drag orbits, the wheel zooms in.
+      const cb = await page.locator('#view').boundingBox();
+      await page.mouse.move(cb.x + 200, cb.y + 200);
+      await page.mouse.down();
+      await page.mouse.move(cb.x + 300, cb.y + 230, { steps: 5 });
+      await page.mouse.up();
+      await frames(page, 2);
+      const orbited = await page.evaluate(() => window.playground.state());
+      const tipMoved = Math.hypot(
+        orbited.screenNodes[3][0] - state3.screenNodes[3][0],
+        orbited.screenNodes[3][1] - state3.screenNodes[3][1],
+      );
+      assert.ok(tipMoved > 20, `orbit moved the end effector only ${tipMoved} px on screen`);
+      const span = (s) => Math.hypot(s.screenNodes[3][0] - s.screenNodes[0][0], s.screenNodes[3][1] - s.screenNodes[0][1]);
+      await page.mouse.wheel(0, -400);
+      await frames(page, 2);
+      const zoomed = await page.evaluate(() => window.playground.state());
+      assert.ok(span(zoomed) > 1.2 * span(orbited), `zoom: ${span(orbited)} -> ${span(zoomed)} px`);
+      await screenshot(page, `arm-${backend}-4-camera.png`);
+
       const status = await page.locator('#status').textContent();
       assert.match(status, backend === 'webgpu' ? /WebGPU/ : /WebGL2/);
       assert.equal(await page.locator('#error').isHidden(), true);
