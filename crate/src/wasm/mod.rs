@@ -13,3 +13,6 @@ mod kinematics;
 pub fn start() {
     console_error_panic_hook::set_once();
 }
+
+#[cfg(feature = "render")]
+mod viewer;
