@@ -80,7 +80,7 @@ function ensureChromium() {
   }
   fail(`Chromium is missing (${CHROMIUM}); the browser tests drive it.`, [
     'sudo apt-get update && sudo apt-get install -y chromium',
-    '(Debian/Ubuntu; elsewhere install Chromium and set CHROMIUM=/path/to/the/chromium/binary)',
+    '(Debian/Ubuntu; elsewhere install Chromium and set CHROMIUM_PATH=/path/to/the/chromium/binary)',
   ]);
 }
 
@@ -92,7 +92,7 @@ export function ensureTools({ browser = false } = {}) {
     // Without --locked: its lock file pins a crate version the registry lacks.
     ensureCargoTool('wasm-bindgen', 'wasm-bindgen-cli', WASM_BINDGEN, false);
     ensureNpm();
-    if (browser && !process.env.CHROMIUM) ensureChromium();
+    if (browser && !process.env.CHROMIUM_PATH) ensureChromium();
     return true;
   } catch (e) {
     if (e instanceof MissingTool) {

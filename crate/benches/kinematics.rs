@@ -8,8 +8,12 @@ use std::hint::black_box;
 
 fn kinematics_step(c: &mut Criterion) {
     for name in ["lwr4", "panda", "dual-arm"] {
-        let Ok(mut w) = KinematicsStep::new(name, 64) else { continue };
-        c.bench_function(&format!("kinematics_step/{name}"), |b| b.iter(|| black_box(w.run())));
+        let Ok(mut w) = KinematicsStep::new(name, 64) else {
+            continue;
+        };
+        c.bench_function(&format!("kinematics_step/{name}"), |b| {
+            b.iter(|| black_box(w.run()))
+        });
     }
 }
 

@@ -43,7 +43,15 @@ impl KinematicsStep {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let jacobians = vec![PointJacobians::default(); points.len()];
-        Ok(Self { robot, configs, frames, skeleton, points, jacobians, next: 0 })
+        Ok(Self {
+            robot,
+            configs,
+            frames,
+            skeleton,
+            points,
+            jacobians,
+            next: 0,
+        })
     }
 
     /// Runs one step at the next configuration; returns a checksum so that

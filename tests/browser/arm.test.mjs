@@ -227,11 +227,11 @@ test('the Viewer rejects bad input with an Error naming the problem', async () =
         stillDrawing: window.playground.state().q,
       };
     });
-    assert.match(messages.shortQ, /q: expected 3 values, got 2/);
+    assert.match(messages.shortQ, /q: expected 3 joint values, got 2/);
     assert.match(messages.nanQ, /q\[1\]: not a finite number/);
-    assert.match(messages.stringQ, /q: expected an array or Float64Array/);
+    assert.match(messages.stringQ, /q: expected an array or a Float64Array/);
     assert.match(messages.wordInQ, /q\[1\]: not a number/);
-    assert.match(messages.preset, /robot\.preset: unknown preset "nope"/);
+    assert.match(messages.preset, /robot\.preset: unknown robot "nope"/);
     assert.match(messages.display, /display\.volume: unknown field/);
     assert.match(messages.displayType, /display\.nodes: invalid type/);
     assert.match(messages.displayArray, /display: expected an object/);

@@ -5,7 +5,7 @@ use glam::{DAffine3, DVec3};
 use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
 
-use super::convert::{f64_vec, from_js, js_error, robot, to_js};
+use super::convert::{f64_vec, js_error, object_from_js, robot, to_js};
 use crate::control_point::DhPoint;
 use crate::error::FieldError;
 use crate::kinematics::{Robot, presets};
@@ -177,7 +177,7 @@ pub fn control_point(
 ) -> Result<JsValue, JsError> {
     let r = robot(robot_spec)?;
     let qv = f64_vec("q", &q)?;
-    let p: PointIn = from_js("point", point)?;
+    let p: PointIn = object_from_js("point", point)?;
     let p = DhPoint {
         link: p.link,
         d: p.d,
@@ -186,7 +186,7 @@ pub fn control_point(
     let rates: Option<RatesIn> = if rates.is_undefined() || rates.is_null() {
         None
     } else {
-        Some(from_js("rates", rates)?)
+        Some(object_from_js("rates", rates)?)
     };
     let frames = match &rates {
         Some(rt) => r.forward_with_velocity(&qv, &rt.qdot),
@@ -243,7 +243,7 @@ struct DhOut {
 pub fn skeleton_point(robot_spec: JsValue, q: JsValue, at: JsValue) -> Result<JsValue, JsError> {
     let r = robot(robot_spec)?;
     let f = frames_of(&r, &q)?;
-    let at: SkeletonPointIn = from_js("at", at)?;
+    let at: SkeletonPointIn = object_from_js("at", at)?;
     let s = Skeleton::build(&r, &f);
     let p = DhPoint::from_skeleton(&r, &f, &s, at.segment, at.t)
         .map_err(|e| js_error(&e.within("at")))?;

@@ -10,12 +10,14 @@ use serde::{Deserialize, Serialize};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
+use super::convert::{f64_vec, finite_arg, js_error, object_from_js, robot as robot_from_js};
+use crate::kinematics::{Frames, Robot};
 use crate::render::{BackendRequest, Camera, Capsule, Renderer, Scene, Sphere, View};
 use crate::skeleton::Skeleton;
 
 /// Options of `Viewer.create`.
 #[derive(Debug, Default, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 struct ViewerOptions {
     /// `"auto"` (default), `"webgpu"` or `"webgl2"`.
     backend: Option<String>,
@@ -26,7 +28,7 @@ struct ViewerOptions {
 
 /// What `setDisplay` toggles.
 #[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 struct Display {
     /// The translucent volumes around the skeleton segments.
     volumes: bool,
@@ -100,7 +102,7 @@ pub struct Viewer {
     fixed_view: Option<View>,
     /// The view `"auto"` stands for with the current robot.
     auto_view: View,
-    robot: Option<standin::Robot>,
+    robot: Option<Robot>,
     q: Vec<f64>,
     skeleton: Skeleton,
     frames: Vec<DAffine3>,
@@ -125,7 +127,7 @@ impl Viewer {
         let options: ViewerOptions = if options.is_undefined() || options.is_null() {
             ViewerOptions::default()
         } else {
-            from_js(options, "options", &["backend", "view"])?
+            object_from_js("options", options)?
         };
         let request = match options.backend.as_deref() {
             None => BackendRequest::Auto,
@@ -178,11 +180,14 @@ impl Viewer {
     /// An `Error` naming the field and the reason when the spec is invalid.
     #[wasm_bindgen(js_name = setRobot)]
     pub fn set_robot(&mut self, spec: JsValue) -> Result<(), JsError> {
-        let robot = standin::Robot::from_js(spec)?;
-        let q = vec![0.0; robot.dof()];
-        let frames = robot.frames(&q);
-        let skeleton = robot.skeleton(&frames);
-        let (center, reach) = standin::reach(&robot, &frames);
+        let robot = robot_from_js(spec)?;
+        // Zero, or the nearest value within the joint limits.
+        let mut q = vec![0.0; robot.dof()];
+        robot.clamp_to_limits(&mut q);
+        let f = robot.forward(&q).map_err(|e| js_error(&e))?;
+        let skeleton = Skeleton::build(&robot, &f);
+        let (center, reach) = reach(&robot, &f);
+        let frames = f.transforms;
         self.auto_view = if is_planar(&frames) {
             View::Top
         } else {
@@ -209,9 +214,10 @@ impl Viewer {
         let Some(robot) = &self.robot else {
             return Err(JsError::new("setJoints: no robot; call setRobot first"));
         };
-        let q = joint_vector(&q, robot.dof())?;
-        self.frames = robot.frames(&q);
-        self.skeleton = robot.skeleton(&self.frames);
+        let q = f64_vec("q", &q)?;
+        let f = robot.forward(&q).map_err(|e| js_error(&e))?;
+        self.skeleton = Skeleton::build(robot, &f);
+        self.frames = f.transforms;
         self.q = q;
         self.dirty = true;
         Ok(())
@@ -224,7 +230,7 @@ impl Viewer {
     /// An `Error` naming an unknown or mistyped field.
     #[wasm_bindgen(js_name = setDisplay)]
     pub fn set_display(&mut self, display: JsValue) -> Result<(), JsError> {
-        self.display = from_js(display, "display", &["volumes", "nodes", "axes", "grid"])?;
+        self.display = object_from_js("display", display)?;
         self.dirty = true;
         Ok(())
     }
@@ -439,154 +445,20 @@ fn view_error(field: &str, name: &str) -> JsError {
     ))
 }
 
-fn finite_arg(field: &str, x: f64) -> Result<f64, JsError> {
-    crate::error::finite(field, x).map_err(|e| JsError::new(&e.to_string()))
-}
-
-/// Deserializes `value`, naming the offending field under `root` on failure.
-///
-/// serde-wasm-bindgen reads only the fields a struct names, so an object
-/// with a misspelt key would pass silently: `fields` lists the keys allowed.
-fn from_js<T: serde::de::DeserializeOwned>(
-    value: JsValue,
-    root: &str,
-    fields: &[&str],
-) -> Result<T, JsError> {
-    if !value.is_object() || js_sys::Array::is_array(&value) {
-        return Err(JsError::new(&format!("{root}: expected an object")));
-    }
-    for key in js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>()).iter() {
-        let key = key.as_string().unwrap_or_default();
-        if !fields.contains(&key.as_str()) {
-            return Err(JsError::new(&format!(
-                "{root}.{key}: unknown field (expected one of {})",
-                fields.join(", ")
-            )));
-        }
-    }
-    let de = serde_wasm_bindgen::Deserializer::from(value);
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let field = if path == "." {
-            root.to_owned()
-        } else {
-            format!("{root}.{path}")
-        };
-        // serde-wasm-bindgen's errors print as JS errors do: "Error: …".
-        let inner = e.inner().to_string();
-        let reason = inner.strip_prefix("Error: ").unwrap_or(&inner);
-        JsError::new(&format!("{field}: {reason}"))
-    })
-}
-
-/// Reads a joint vector of `dof` finite numbers from an array or a
-/// `Float64Array`.
-fn joint_vector(value: &JsValue, dof: usize) -> Result<Vec<f64>, JsError> {
-    let q: Vec<f64> = if let Some(typed) = value.dyn_ref::<js_sys::Float64Array>() {
-        typed.to_vec()
-    } else if let Some(array) = value.dyn_ref::<js_sys::Array>() {
-        array
-            .iter()
-            .enumerate()
-            .map(|(i, v)| {
-                v.as_f64()
-                    .ok_or_else(|| JsError::new(&format!("q[{i}]: not a number")))
-            })
-            .collect::<Result<_, _>>()?
-    } else {
-        return Err(JsError::new(&format!(
-            "q: expected an array or Float64Array of {dof} numbers"
-        )));
-    };
-    if q.len() != dof {
-        return Err(JsError::new(&format!(
-            "q: expected {dof} values, got {}",
-            q.len()
-        )));
-    }
-    for (i, x) in q.iter().enumerate() {
-        finite_arg(&format!("q[{i}]"), *x)?;
-    }
-    Ok(q)
-}
-
-/// STAND-IN for `kinematics::{RobotSpec, Robot, presets}` and
-/// `Skeleton::build`, which are being written: only the planar 3-link arm of
-/// the paper (links 0.4, 0.3, 0.2 m in the x-y plane, z up). Replace this
-/// module with the real kinematics when it lands; nothing else in this file
-/// depends on its insides.
-mod standin {
-    use glam::{DAffine3, DMat3, DVec3};
-    use serde::Deserialize;
-    use wasm_bindgen::prelude::*;
-
-    use crate::skeleton::{Segment, Skeleton, SpinePart};
-
-    #[derive(Debug, Deserialize)]
-    struct PresetRef {
-        preset: String,
-    }
-
-    /// A planar chain of revolute joints about z with link lengths and radii.
-    #[derive(Debug)]
-    pub(super) struct Robot {
-        links: Vec<(f64, f64)>,
-    }
-
-    impl Robot {
-        pub(super) fn from_js(spec: JsValue) -> Result<Self, JsError> {
-            let reference: PresetRef = serde_wasm_bindgen::from_value(spec).map_err(|_| {
-                JsError::new("robot: only { preset: \"planar3\" } is supported by this build")
-            })?;
-            match reference.preset.as_str() {
-                "planar3" => Ok(Self {
-                    links: vec![(0.4, 0.05), (0.3, 0.045), (0.2, 0.04)],
-                }),
-                other => Err(JsError::new(&format!(
-                    "robot.preset: unknown preset {other:?}"
-                ))),
-            }
-        }
-
-        pub(super) fn dof(&self) -> usize {
-            self.links.len()
-        }
-
-        /// Frames 0..=n (standard DH with alpha = d = theta offset = 0).
-        pub(super) fn frames(&self, q: &[f64]) -> Vec<DAffine3> {
-            let mut frames = vec![DAffine3::IDENTITY];
-            let mut current = DAffine3::IDENTITY;
-            for (&(a, _), &qi) in self.links.iter().zip(q) {
-                current = current
-                    * DAffine3::from_mat3(DMat3::from_rotation_z(qi))
-                    * DAffine3::from_translation(DVec3::new(a, 0.0, 0.0));
-                frames.push(current);
-            }
-            frames
-        }
-
-        pub(super) fn skeleton(&self, frames: &[DAffine3]) -> Skeleton {
-            let nodes = frames.iter().map(|f| f.translation).collect();
-            let segments = self
-                .links
-                .iter()
-                .enumerate()
-                .map(|(i, &(_, r))| Segment {
-                    from: i,
-                    to: i + 1,
-                    link: i + 1,
-                    part: SpinePart::A,
-                    radius: [r, r],
-                })
-                .collect();
-            Skeleton { nodes, segments }
-        }
-    }
-
-    /// Centre and radius of a ball that holds the robot in any pose.
-    pub(super) fn reach(robot: &Robot, frames: &[DAffine3]) -> (DVec3, f64) {
-        let base = frames.first().map_or(DVec3::ZERO, |f| f.translation);
-        let reach = robot.links.iter().map(|&(a, r)| a.abs() + r).sum::<f64>();
-        (base, reach)
-    }
+/// Centre and radius of a ball that holds the robot in any pose: the base and
+/// the sum of every row's translations, extensions, radii and tools.
+fn reach(robot: &Robot, frames: &Frames) -> (glam::DVec3, f64) {
+    let base = frames.origin(0);
+    let rows: f64 = robot
+        .joints
+        .iter()
+        .zip(&frames.d)
+        .map(|(j, d)| j.a.abs() + d.abs() + j.extension + j.radius[0].max(j.radius[1]))
+        .sum();
+    let tools: f64 = robot
+        .chains
+        .iter()
+        .map(|c| c.tool.translation.length())
+        .sum();
+    (base, (rows + tools).max(0.1))
 }
