@@ -44,6 +44,7 @@ pub mod error;
 pub mod kinematics;
 pub mod rng;
 pub mod skeleton;
+pub mod transition;
 pub mod workloads;
 
 #[cfg(all(target_arch = "wasm32", feature = "render"))]
