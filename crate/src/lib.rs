@@ -38,7 +38,9 @@
 //! Every fallible function returns a typed error whose message names the field
 //! and the reason; nothing in the core panics on user input.
 
+pub mod avoidance;
 pub mod control_point;
+pub mod dependability;
 pub mod distance;
 pub mod error;
 pub mod kinematics;
