@@ -300,6 +300,8 @@ pub struct TaskReference {
     pub acceleration: DVec3,
     /// Desired orientation, if controlled.
     pub orientation: Option<DQuat>,
+    /// Chain whose end effector is controlled (0 = main chain).
+    pub chain: usize,
 }
 
 /// Output of a controller for one step.
@@ -389,11 +391,15 @@ fn task_rows(
     frames: &Frames,
     task: &TaskReference,
 ) -> Result<(Mat, DVec3, DQuat), FieldError> {
-    let full = end_effector_jacobian(robot, frames, 0)?;
+    let full = end_effector_jacobian(robot, frames, task.chain)?;
     let rows = if task.orientation.is_some() { 6 } else { 3 };
     let mut jac = Mat::zeros(rows, full.cols);
     jac.data.copy_from_slice(&full.data[..rows * full.cols]);
-    let ee = frames.end_effector();
+    let ee = frames
+        .end_effectors
+        .get(task.chain)
+        .copied()
+        .unwrap_or(glam::DAffine3::IDENTITY);
     Ok((jac, ee.translation, DQuat::from_mat3(&ee.matrix3)))
 }
 
@@ -506,13 +512,14 @@ fn task_bias(
     robot: &Robot,
     q: &[f64],
     qdot: &[f64],
-    rows: usize,
+    chain: usize,
     jee: &Mat,
 ) -> Result<Vec<f64>, FieldError> {
+    let rows = jee.rows;
     const H: f64 = 1e-6;
     let q2: Vec<f64> = q.iter().zip(qdot).map(|(a, b)| a + H * b).collect();
     let f2 = robot.forward(&q2)?;
-    let j2 = end_effector_jacobian(robot, &f2, 0)?;
+    let j2 = end_effector_jacobian(robot, &f2, chain)?;
     let mut out = vec![0.0; rows];
     for (r, o) in out.iter_mut().enumerate() {
         for (c, qd) in qdot.iter().enumerate() {
@@ -572,9 +579,8 @@ pub fn clik2_control(
         return Err(e);
     }
     let (jee, x, rot) = task_rows(robot, frames, task)?;
-    let rows = jee.rows;
     let v = jee.mul_vec(qdot);
-    let bias = task_bias(robot, q, qdot, rows, &jee)?;
+    let bias = task_bias(robot, q, qdot, task.chain, &jee)?;
     let xdot = DVec3::new(v[0], v[1], v[2]);
     let a = task.acceleration + g.kd * (task.velocity - xdot) + g.kp * (task.position - x);
     let mut r_task: Vec<f64> = a.to_array().to_vec();

@@ -45,9 +45,11 @@ pub mod distance;
 pub mod error;
 pub mod kinematics;
 pub mod rng;
+pub mod scenario;
 pub mod skeleton;
 pub mod transition;
 pub mod workloads;
+pub mod world;
 
 #[cfg(all(target_arch = "wasm32", feature = "render"))]
 pub mod render;
