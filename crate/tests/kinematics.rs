@@ -575,3 +575,34 @@ fn bad_input_names_the_field() {
         .starts_with("a: 0.1 is outside")
     );
 }
+
+#[test]
+fn adjacency_follows_the_skeleton() {
+    // lwr4: rows 2, 4, 6 add no segment, so the segments of rows 1, 3, 5, 7
+    // meet at nodes: 1–3, 3–5, 5–7 are adjacent, 1–5 are not.
+    let r = robot("lwr4");
+    assert_eq!(r.skeleton_parent(3), 1);
+    assert!(r.adjacent(1, 3) && r.adjacent(3, 5) && r.adjacent(5, 7) && r.adjacent(2, 2));
+    assert!(!r.adjacent(1, 5) && !r.adjacent(3, 7));
+    // dual-arm: both arms start at the chest node; their first rows are
+    // adjacent to the torso and to each other, their upper arms are not.
+    let r = robot("dual-arm");
+    let (left, right) = (r.chains[1].first, r.chains[2].first);
+    assert!(r.adjacent(1, left) && r.adjacent(1, right) && r.adjacent(left, right));
+    assert!(!r.adjacent(left + 2, right + 2) && !r.adjacent(1, left + 2));
+    // Adjacent rows share a skeleton node; non-adjacent ones with segments do not.
+    let frames = r.forward(&vec![0.3; r.dof()]).unwrap();
+    let skel = Skeleton::build(&r, &frames);
+    for a in &skel.segments {
+        for b in &skel.segments {
+            let share = [a.from, a.to].iter().any(|n| *n == b.from || *n == b.to);
+            assert_eq!(
+                share,
+                r.adjacent(a.link, b.link),
+                "links {} and {}",
+                a.link,
+                b.link
+            );
+        }
+    }
+}
