@@ -606,3 +606,58 @@ fn adjacency_follows_the_skeleton() {
         }
     }
 }
+
+#[test]
+fn pose_clik_reaches_position_and_orientation() {
+    let mut rng = Rng::new(31);
+    for name in ["lwr4", "panda", "ur5"] {
+        let r = robot(name);
+        let mut reached = 0;
+        for _ in 0..6 {
+            let goal_q = random_q(&r, &mut rng);
+            let goal = r.forward(&goal_q).unwrap().end_effector();
+            let (_, rot, pos) = goal.to_scale_rotation_translation();
+            let mut q: Vec<f64> = goal_q.iter().map(|v| v + rng.range(-0.25, 0.25)).collect();
+            r.clamp_to_limits(&mut q);
+            for _ in 0..400 {
+                let frames = r.forward(&q).unwrap();
+                let qd = ik::clik_pose(
+                    &r,
+                    &frames,
+                    0,
+                    (pos, rot),
+                    (DVec3::ZERO, DVec3::ZERO),
+                    (20.0, 20.0),
+                    &[],
+                    Damping::default(),
+                )
+                .unwrap();
+                for (v, d) in q.iter_mut().zip(&qd) {
+                    *v += d * 0.005;
+                }
+                r.clamp_to_limits(&mut q);
+            }
+            let ee = r.forward(&q).unwrap().end_effector();
+            let (_, rot2, pos2) = ee.to_scale_rotation_translation();
+            if pos.distance(pos2) < 1e-6 && ik::orientation_error(rot, rot2).length() < 1e-6 {
+                reached += 1;
+            }
+        }
+        assert!(reached >= 5, "{name}: {reached}/6 poses reached");
+    }
+    // The 6 × n Jacobian's linear rows equal J_θ of the end-effector point.
+    let r = robot("lwr4");
+    let frames = r.forward(&[0.2, 0.4, -0.3, -1.0, 0.5, 0.7, 0.1]).unwrap();
+    let j6 = ik::end_effector_jacobian(&r, &frames, 0).unwrap();
+    let jp = DhPoint {
+        link: 7,
+        d: 0.078,
+        a: 0.0,
+    }
+    .jacobians(&r, &frames);
+    for k in 0..7 {
+        for row in 0..3 {
+            assert!((j6.get(row, k) - jp.j_theta[k][row]).abs() < 1e-12);
+        }
+    }
+}
