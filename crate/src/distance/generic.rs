@@ -1,8 +1,8 @@
 //! parry for the pairs with no closed form here: a convex hull against
 //! anything but a plane, and flat figures or boxes against each other.
 //! Flat figures become zero-thickness parry shapes (a rectangle a cuboid of
-//! zero height, a disk a cylinder of zero height, a convex polygon a
-//! triangle fan).
+//! zero height, a disk a cylinder of zero height, a polygon the triangle
+//! mesh of its ear-clipping triangulation).
 
 use glam::{DMat3, DQuat, DVec3};
 use parry3d_f64::math::Pose;
@@ -45,9 +45,13 @@ pub(crate) fn parry_shape(core: Core<'_>) -> Option<(Pose, Box<dyn Shape>)> {
             Pose::from_parts(d.center, DQuat::from_rotation_arc(DVec3::Y, d.normal)),
             Box::new(Cylinder::new(0.0, d.radius)),
         ),
-        Core::Polygon(poly) if poly.is_convex() => {
+        Core::Polygon(poly) => {
             let v = poly.vertices().to_vec();
-            let idx: Vec<[u32; 3]> = (1..v.len() as u32 - 1).map(|k| [0, k, k + 1]).collect();
+            let idx: Vec<[u32; 3]> = poly
+                .triangles()
+                .iter()
+                .map(|t| [t[0] as u32, t[1] as u32, t[2] as u32])
+                .collect();
             (Pose::IDENTITY, Box::new(TriMesh::new(v, idx).ok()?))
         }
         Core::Box(b) => (
@@ -55,7 +59,7 @@ pub(crate) fn parry_shape(core: Core<'_>) -> Option<(Pose, Box<dyn Shape>)> {
             Box::new(Cuboid::new(b.half_extents)),
         ),
         Core::Hull(h) => (Pose::IDENTITY, Box::new(h.shape().clone())),
-        Core::Point(_) | Core::Plane(_) | Core::Polygon(_) => return None,
+        Core::Point(_) | Core::Plane(_) => return None,
     })
 }
 

@@ -45,8 +45,8 @@
 //! figure it is the minimum over the segment of the clearance of the ball
 //! centred there, found by golden-section search and lowered by the search's
 //! remaining uncertainty, so it is never larger than the true clearance (by at
-//! most ~1e-12 of the segment length smaller). Against a non-convex polygon
-//! it is the core distance minus the larger radius, a lower bound.
+//! most ~1e-12 of the segment length smaller); a non-convex polygon is the
+//! union of its triangles.
 
 mod cuboid;
 mod disk;
@@ -282,8 +282,8 @@ pub(crate) fn core_distance(a: Core<'_>, b: Core<'_>) -> Result<Closest, Distanc
 /// or boxes against each other.
 ///
 /// # Errors
-/// [`DistanceError::UnsupportedPair`] for a non-convex polygon against a
-/// rectangle, disk, polygon, box or hull (no routine handles it).
+/// [`DistanceError::UnsupportedPair`] if parry declines a pair it should
+/// serve (not expected for valid figures).
 ///
 /// # Example
 /// ```

@@ -378,6 +378,54 @@ impl Polygon {
         &self.local
     }
 
+    /// A triangulation by ear clipping: index triples into the vertices,
+    /// counter-clockwise around the normal.
+    #[must_use]
+    pub fn triangles(&self) -> Vec<[usize; 3]> {
+        let pts = &self.local;
+        let mut idx: Vec<usize> = (0..pts.len()).collect();
+        let mut out = Vec::with_capacity(pts.len().saturating_sub(2));
+        let inside = |p: DVec2, a: DVec2, b: DVec2, c: DVec2| {
+            (b - a).perp_dot(p - a) >= 0.0
+                && (c - b).perp_dot(p - b) >= 0.0
+                && (a - c).perp_dot(p - c) >= 0.0
+        };
+        while idx.len() > 3 {
+            let m = idx.len();
+            let ear = (0..m).find(|&k| {
+                let (i, j, l) = (idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]);
+                let (a, b, c) = (pts[i], pts[j], pts[l]);
+                (b - a).perp_dot(c - b) > 0.0
+                    && idx
+                        .iter()
+                        .all(|&o| o == i || o == j || o == l || !inside(pts[o], a, b, c))
+            });
+            // A simple polygon always has an ear; rounding may hide it, then
+            // the most convex corner is clipped.
+            let k = ear.unwrap_or_else(|| {
+                (0..m)
+                    .max_by(|&x, &y| {
+                        let turn = |k: usize| {
+                            let (a, b, c) = (
+                                pts[idx[(k + m - 1) % m]],
+                                pts[idx[k]],
+                                pts[idx[(k + 1) % m]],
+                            );
+                            (b - a).perp_dot(c - b)
+                        };
+                        turn(x).total_cmp(&turn(y))
+                    })
+                    .unwrap_or(0)
+            });
+            out.push([idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]]);
+            idx.remove(k);
+        }
+        if idx.len() == 3 {
+            out.push([idx[0], idx[1], idx[2]]);
+        }
+        out
+    }
+
     /// Whether the in-plane point `q` is inside (even–odd rule; points on the
     /// boundary may answer either way).
     pub(crate) fn contains_local(&self, q: DVec2) -> bool {

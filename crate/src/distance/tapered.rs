@@ -13,14 +13,15 @@
 //! the signed distance from the axis point to the other figure, a convex
 //! function of `t` for a convex figure. Golden-section search brackets the
 //! minimum; the result is lowered by the bracket width times the function's
-//! Lipschitz constant, so it is never larger than the true clearance.
+//! Lipschitz constant, so it is never larger than the true clearance. A
+//! non-convex polygon is taken as the union of its (convex) triangles.
 
 use glam::DVec3;
 
 use super::polygon::segment_polygon;
 use super::{
-    Closest, Core, Distance, DistanceError, Primitive, TaperedCapsule, core_distance, core_of,
-    orthogonal_unit,
+    Closest, Core, Distance, DistanceError, Polygon, Primitive, TaperedCapsule, core_distance,
+    core_of, orthogonal_unit,
 };
 
 /// Point `p` (A) against the surface of a tapered capsule (B): signed.
@@ -91,6 +92,19 @@ pub(crate) fn tapered_vs(
             return Ok(point_tapered(s.center, tc).flipped().inflate(0.0, s.radius));
         }
         Primitive::Polygon(poly) if !poly.is_convex() => {
+            // The union of its triangles, each convex.
+            let v = poly.vertices();
+            let mut best: Option<Distance> = None;
+            for [i, j, k] in poly.triangles() {
+                let tri = Polygon::new(vec![v[i], v[j], v[k]]).map_err(DistanceError::from)?;
+                let d = tapered_vs(tc, &Primitive::Polygon(tri))?;
+                if best.is_none_or(|b| d.distance < b.distance) {
+                    best = Some(d);
+                }
+            }
+            if let Some(b) = best {
+                return Ok(b);
+            }
             let c = segment_polygon(tc.segment.a, tc.segment.b, poly);
             return Ok(c.inflate(tc.max_radius(), 0.0));
         }
