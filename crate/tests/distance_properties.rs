@@ -4,6 +4,9 @@
 //! Also agreement with parry where parry is exact (segment–segment,
 //! ball–ball, plane) and within its GJK tolerance for capsules.
 
+// Test helpers outside `#[test]` functions may fail loudly too.
+#![allow(clippy::panic)]
+
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
