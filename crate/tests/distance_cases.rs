@@ -9,8 +9,8 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use glam::DVec3;
 use skeleton_avoidance::distance::{
-    Capsule, Disk, LineSegment, OrientedBox, Plane, Polygon, Primitive, PrimitiveSpec, Rectangle,
-    Sphere, TaperedCapsule, distance, distance_between_specs,
+    Capsule, Disk, LineSegment, OrientedBox, Plane, PointSpec, Polygon, Primitive, PrimitiveSpec,
+    Rectangle, Sphere, TaperedCapsule, TaperedCapsuleSpec, distance, distance_between_specs,
 };
 
 fn v(x: f64, y: f64, z: f64) -> DVec3 {
@@ -304,147 +304,102 @@ fn tapered_capsule_is_exact_against_points_and_never_larger_elsewhere() {
 
 #[test]
 fn bad_input_names_the_field_and_the_reason() {
+    let spec = |json: &str| -> PrimitiveSpec { serde_json::from_str(json).unwrap() };
     let err = |a: PrimitiveSpec, b: PrimitiveSpec| match distance_between_specs(&a, &b) {
         Ok(d) => format!("ok {d:?}"),
         Err(e) => e.to_string(),
     };
-    let pt = PrimitiveSpec::Point { p: [0., 0., 0.] };
-    assert_eq!(
-        err(
-            pt.clone(),
-            PrimitiveSpec::Sphere {
-                center: [0.; 3],
-                radius: 0.0
-            }
+    let pt = || spec(r#"{"type":"point","p":[0,0,0]}"#);
+    let cases = [
+        (
+            r#"{"type":"sphere","center":[0,0,0],"radius":0}"#,
+            "b.radius: must be > 0",
         ),
-        "b.radius: must be > 0"
-    );
-    assert_eq!(
-        err(
-            pt.clone(),
-            PrimitiveSpec::Sphere {
-                center: [0.; 3],
-                radius: -1.0
-            }
+        (
+            r#"{"type":"sphere","center":[0,0,0],"radius":-1}"#,
+            "b.radius: must be > 0",
         ),
-        "b.radius: must be > 0"
-    );
+        (
+            r#"{"type":"capsule","a":[0,0,0],"b":[1,0,0],"radius":0}"#,
+            "b.radius: must be > 0",
+        ),
+        (
+            r#"{"type":"plane","normal":[0,0,0],"offset":1}"#,
+            "b.normal: must not be zero",
+        ),
+        (
+            r#"{"type":"rectangle","center":[0,0,0],"axes":[[1,0,0],[1,1,0]],"halfExtents":[1,1]}"#,
+            "b.axes: must be orthogonal",
+        ),
+        (
+            r#"{"type":"rectangle","center":[0,0,0],"axes":[[1,0,0],[0,1,0]],"halfExtents":[1,0]}"#,
+            "b.halfExtents[1]: must be > 0",
+        ),
+        (
+            r#"{"type":"rectangle","center":[0,0,0],"axes":[[0,0,0],[0,1,0]],"halfExtents":[1,1]}"#,
+            "b.axes[0]: must not be zero",
+        ),
+        (
+            r#"{"type":"disk","center":[0,0,0],"normal":[0,0,1],"radius":0}"#,
+            "b.radius: must be > 0",
+        ),
+        (
+            r#"{"type":"disk","center":[0,0,0],"normal":[0,0,0],"radius":1}"#,
+            "b.normal: must not be zero",
+        ),
+        (
+            r#"{"type":"polygon","vertices":[[0,0,0],[1,0,0]]}"#,
+            "b.vertices: polygon needs at least 3 vertices",
+        ),
+        (
+            r#"{"type":"polygon","vertices":[[0,0,0],[1,0,0],[1,1,0],[0,1,0.5]]}"#,
+            "b.vertices: polygon is not planar",
+        ),
+        (
+            r#"{"type":"polygon","vertices":[[0,0,0],[2,2,0],[2,0,0],[0,1,0]]}"#,
+            "b.vertices: polygon is self-intersecting",
+        ),
+        (
+            r#"{"type":"polygon","vertices":[[0,0,0],[1,0,0],[2,0,0]]}"#,
+            "b.vertices: polygon has zero area",
+        ),
+        (
+            r#"{"type":"box","center":[0,0,0],"halfExtents":[1,1,1],"rotation":[0,0,0,0]}"#,
+            "b.rotation: must not be zero",
+        ),
+        (
+            r#"{"type":"box","center":[0,0,0],"halfExtents":[1,-1,1]}"#,
+            "b.halfExtents[1]: must be > 0",
+        ),
+        (
+            r#"{"type":"convexHull","points":[[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}"#,
+            "b.points: all points lie in one plane",
+        ),
+        (
+            r#"{"type":"convexHull","points":[[0,0,0],[1,0,0],[0,1,0]]}"#,
+            "b.points: needs at least 4 points",
+        ),
+    ];
+    for (json, message) in cases {
+        assert_eq!(err(pt(), spec(json)), message, "{json}");
+    }
     assert_eq!(
         err(
-            PrimitiveSpec::Point {
+            PrimitiveSpec::Point(PointSpec {
                 p: [0., f64::NAN, 0.]
-            },
-            pt.clone()
+            }),
+            pt()
         ),
         "a.p[1]: not a finite number"
     );
     assert_eq!(
         err(
-            PrimitiveSpec::Plane {
-                normal: [0.; 3],
-                offset: 1.0
-            },
-            pt.clone()
-        ),
-        "a.normal: must not be zero"
-    );
-    assert_eq!(
-        err(
-            pt.clone(),
-            PrimitiveSpec::Rectangle {
-                center: [0.; 3],
-                axes: [[1., 0., 0.], [1., 1., 0.]],
-                half_extents: [1., 1.]
-            }
-        ),
-        "b.axes: must be orthogonal"
-    );
-    assert_eq!(
-        err(
-            pt.clone(),
-            PrimitiveSpec::Rectangle {
-                center: [0.; 3],
-                axes: [[1., 0., 0.], [0., 1., 0.]],
-                half_extents: [1., 0.]
-            }
-        ),
-        "b.halfExtents[1]: must be > 0"
-    );
-    assert_eq!(
-        err(
-            pt.clone(),
-            PrimitiveSpec::Disk {
-                center: [0.; 3],
-                normal: [0., 0., 1.],
-                radius: 0.0
-            }
-        ),
-        "b.radius: must be > 0"
-    );
-    assert_eq!(
-        err(
-            PrimitiveSpec::Polygon {
-                vertices: vec![[0.; 3], [1., 0., 0.]]
-            },
-            pt.clone()
-        ),
-        "a.vertices: polygon needs at least 3 vertices"
-    );
-    assert_eq!(
-        err(
-            PrimitiveSpec::Polygon {
-                vertices: vec![[0.; 3], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.5]]
-            },
-            pt.clone()
-        ),
-        "a.vertices: polygon is not planar"
-    );
-    assert_eq!(
-        err(
-            PrimitiveSpec::Polygon {
-                vertices: vec![[0.; 3], [2., 2., 0.], [2., 0., 0.], [0., 1., 0.]]
-            },
-            pt.clone()
-        ),
-        "a.vertices: polygon is self-intersecting"
-    );
-    assert_eq!(
-        err(
-            PrimitiveSpec::Polygon {
-                vertices: vec![[0.; 3], [1., 0., 0.], [2., 0., 0.]]
-            },
-            pt.clone()
-        ),
-        "a.vertices: polygon has zero area"
-    );
-    assert_eq!(
-        err(
-            pt.clone(),
-            PrimitiveSpec::Box {
-                center: [0.; 3],
-                half_extents: [1., 1., 1.],
-                rotation: Some([0.; 4])
-            }
-        ),
-        "b.rotation: must not be zero"
-    );
-    assert_eq!(
-        err(
-            pt.clone(),
-            PrimitiveSpec::ConvexHull {
-                points: vec![[0.; 3], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]]
-            }
-        ),
-        "b.points: all points lie in one plane"
-    );
-    assert_eq!(
-        err(
-            pt.clone(),
-            PrimitiveSpec::TaperedCapsule {
+            pt(),
+            PrimitiveSpec::TaperedCapsule(TaperedCapsuleSpec {
                 a: [0.; 3],
                 b: [1., 0., 0.],
                 radius: [0.1, f64::INFINITY]
-            }
+            })
         ),
         "b.radius[1]: not a finite number"
     );
@@ -455,15 +410,13 @@ fn bad_input_names_the_field_and_the_reason() {
             .to_string(),
         "a.type: unknown primitive \"cone\""
     );
-    // The JSON shapes of DESIGN.md deserialise.
-    let spec: PrimitiveSpec = serde_json::from_str(
+    // The JSON shapes of DESIGN.md deserialise and validate.
+    for json in [
         r#"{"type":"rectangle","center":[0,0,0],"axes":[[1,0,0],[0,1,0]],"halfExtents":[1,2]}"#,
-    )
-    .unwrap();
-    assert!(Primitive::from_spec(&spec).is_ok());
-    let spec: PrimitiveSpec = serde_json::from_str(
         r#"{"type":"taperedCapsule","a":[0,0,0],"b":[1,0,0],"radius":[0.2,0.1]}"#,
-    )
-    .unwrap();
-    assert!(Primitive::from_spec(&spec).is_ok());
+        r#"{"type":"box","center":[0,0,0],"halfExtents":[1,2,3],"rotation":[0,0,0,1]}"#,
+        r#"{"type":"plane","normal":[0,0,1],"offset":0}"#,
+    ] {
+        assert!(Primitive::from_spec(&spec(json)).is_ok(), "{json}");
+    }
 }

@@ -62,8 +62,9 @@ mod tapered;
 use glam::DVec3;
 
 pub use primitive::{
-    Capsule, ConvexHull, Disk, LineSegment, OrientedBox, Plane, Polygon, Primitive, PrimitiveSpec,
-    Rectangle, Sphere, TaperedCapsule,
+    BoxSpec, Capsule, CapsuleSpec, ConvexHull, ConvexHullSpec, Disk, DiskSpec, LineSegment,
+    OrientedBox, Plane, PlaneSpec, PointSpec, Polygon, PolygonSpec, Primitive, PrimitiveSpec,
+    Rectangle, RectangleSpec, SegmentSpec, Sphere, SphereSpec, TaperedCapsule, TaperedCapsuleSpec,
 };
 pub use scene::{
     BroadPhase, Obstacle, PairDistance, Pick, QueryOptions, Scene, Target, parent_adjacency,

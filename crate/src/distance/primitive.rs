@@ -690,48 +690,30 @@ impl Primitive {
     pub fn from_spec(spec: &PrimitiveSpec) -> Result<Self, FieldError> {
         let v = |a: [f64; 3]| DVec3::from_array(a);
         Ok(match spec {
-            PrimitiveSpec::Point { p } => Self::Point(finite3("p", v(*p))?),
-            PrimitiveSpec::Segment { a, b } => Self::Segment(LineSegment::new(v(*a), v(*b))?),
-            PrimitiveSpec::Sphere { center, radius } => {
-                Self::Sphere(Sphere::new(v(*center), *radius)?)
+            PrimitiveSpec::Point(s) => Self::Point(finite3("p", v(s.p))?),
+            PrimitiveSpec::Segment(s) => Self::Segment(LineSegment::new(v(s.a), v(s.b))?),
+            PrimitiveSpec::Sphere(s) => Self::Sphere(Sphere::new(v(s.center), s.radius)?),
+            PrimitiveSpec::Capsule(s) => Self::Capsule(Capsule::new(v(s.a), v(s.b), s.radius)?),
+            PrimitiveSpec::TaperedCapsule(s) => {
+                Self::TaperedCapsule(TaperedCapsule::new(v(s.a), v(s.b), s.radius)?)
             }
-            PrimitiveSpec::Capsule { a, b, radius } => {
-                Self::Capsule(Capsule::new(v(*a), v(*b), *radius)?)
-            }
-            PrimitiveSpec::TaperedCapsule { a, b, radius } => {
-                Self::TaperedCapsule(TaperedCapsule::new(v(*a), v(*b), *radius)?)
-            }
-            PrimitiveSpec::Plane { normal, offset } => {
-                Self::Plane(Plane::new(v(*normal), *offset)?)
-            }
-            PrimitiveSpec::Rectangle {
-                center,
-                axes,
-                half_extents,
-            } => Self::Rectangle(Rectangle::new(
-                v(*center),
-                [v(axes[0]), v(axes[1])],
-                *half_extents,
+            PrimitiveSpec::Plane(s) => Self::Plane(Plane::new(v(s.normal), s.offset)?),
+            PrimitiveSpec::Rectangle(s) => Self::Rectangle(Rectangle::new(
+                v(s.center),
+                [v(s.axes[0]), v(s.axes[1])],
+                s.half_extents,
             )?),
-            PrimitiveSpec::Disk {
-                center,
-                normal,
-                radius,
-            } => Self::Disk(Disk::new(v(*center), v(*normal), *radius)?),
-            PrimitiveSpec::Polygon { vertices } => {
-                Self::Polygon(Polygon::new(vertices.iter().map(|p| v(*p)).collect())?)
+            PrimitiveSpec::Disk(s) => Self::Disk(Disk::new(v(s.center), v(s.normal), s.radius)?),
+            PrimitiveSpec::Polygon(s) => {
+                Self::Polygon(Polygon::new(s.vertices.iter().map(|p| v(*p)).collect())?)
             }
-            PrimitiveSpec::Box {
-                center,
-                half_extents,
-                rotation,
-            } => Self::Box(OrientedBox::new(
-                v(*center),
-                v(*half_extents),
-                rotation.unwrap_or([0.0, 0.0, 0.0, 1.0]),
+            PrimitiveSpec::Box(s) => Self::Box(OrientedBox::new(
+                v(s.center),
+                v(s.half_extents),
+                s.rotation.unwrap_or([0.0, 0.0, 0.0, 1.0]),
             )?),
-            PrimitiveSpec::ConvexHull { points } => {
-                Self::ConvexHull(ConvexHull::new(points.iter().map(|p| v(*p)).collect())?)
+            PrimitiveSpec::ConvexHull(s) => {
+                Self::ConvexHull(ConvexHull::new(s.points.iter().map(|p| v(*p)).collect())?)
             }
         })
     }
@@ -794,95 +776,140 @@ impl Primitive {
 
 /// The description of a primitive as it crosses the JavaScript boundary
 /// (`{ type: "sphere", center: [x, y, z], radius }`, …). Validate it with
-/// [`Primitive::from_spec`].
+/// [`Primitive::from_spec`]. Each figure's fields are a struct of their own,
+/// so a binding that has read `type` can deserialise exactly that struct.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "camelCase")]
 pub enum PrimitiveSpec {
     /// `{ type: "point", p }`.
-    Point {
-        /// The point.
-        p: [f64; 3],
-    },
+    Point(PointSpec),
     /// `{ type: "segment", a, b }`.
-    Segment {
-        /// Start.
-        a: [f64; 3],
-        /// End.
-        b: [f64; 3],
-    },
+    Segment(SegmentSpec),
     /// `{ type: "sphere", center, radius }`.
-    Sphere {
-        /// Centre.
-        center: [f64; 3],
-        /// Radius.
-        radius: f64,
-    },
+    Sphere(SphereSpec),
     /// `{ type: "capsule", a, b, radius }`.
-    Capsule {
-        /// Start.
-        a: [f64; 3],
-        /// End.
-        b: [f64; 3],
-        /// Radius.
-        radius: f64,
-    },
+    Capsule(CapsuleSpec),
     /// `{ type: "taperedCapsule", a, b, radius: [r0, r1] }`.
-    TaperedCapsule {
-        /// Start.
-        a: [f64; 3],
-        /// End.
-        b: [f64; 3],
-        /// Radius at `a` and at `b`.
-        radius: [f64; 2],
-    },
+    TaperedCapsule(TaperedCapsuleSpec),
     /// `{ type: "plane", normal, offset }`: `normal·x + offset = 0`.
-    Plane {
-        /// Normal (any non-zero length).
-        normal: [f64; 3],
-        /// Offset.
-        offset: f64,
-    },
+    Plane(PlaneSpec),
     /// `{ type: "rectangle", center, axes: [u, v], halfExtents: [hu, hv] }`.
-    #[serde(rename_all = "camelCase")]
-    Rectangle {
-        /// Centre.
-        center: [f64; 3],
-        /// In-plane axes.
-        axes: [[f64; 3]; 2],
-        /// Half extents along the axes.
-        half_extents: [f64; 2],
-    },
+    Rectangle(RectangleSpec),
     /// `{ type: "disk", center, normal, radius }`.
-    Disk {
-        /// Centre.
-        center: [f64; 3],
-        /// Normal.
-        normal: [f64; 3],
-        /// Radius.
-        radius: f64,
-    },
+    Disk(DiskSpec),
     /// `{ type: "polygon", vertices }`.
-    Polygon {
-        /// Vertices in order.
-        vertices: Vec<[f64; 3]>,
-    },
+    Polygon(PolygonSpec),
     /// `{ type: "box", center, halfExtents, rotation? }` (`[x, y, z, w]`,
     /// identity when absent).
-    #[serde(rename_all = "camelCase")]
-    Box {
-        /// Centre.
-        center: [f64; 3],
-        /// Half extents.
-        half_extents: [f64; 3],
-        /// Orientation quaternion `[x, y, z, w]`.
-        #[serde(default)]
-        rotation: Option<[f64; 4]>,
-    },
+    Box(BoxSpec),
     /// `{ type: "convexHull", points }`.
-    ConvexHull {
-        /// The points whose hull is taken.
-        points: Vec<[f64; 3]>,
-    },
+    ConvexHull(ConvexHullSpec),
+}
+
+/// Fields of `{ type: "point" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PointSpec {
+    /// The point.
+    pub p: [f64; 3],
+}
+
+/// Fields of `{ type: "segment" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SegmentSpec {
+    /// Start.
+    pub a: [f64; 3],
+    /// End.
+    pub b: [f64; 3],
+}
+
+/// Fields of `{ type: "sphere" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SphereSpec {
+    /// Centre.
+    pub center: [f64; 3],
+    /// Radius.
+    pub radius: f64,
+}
+
+/// Fields of `{ type: "capsule" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CapsuleSpec {
+    /// Start.
+    pub a: [f64; 3],
+    /// End.
+    pub b: [f64; 3],
+    /// Radius.
+    pub radius: f64,
+}
+
+/// Fields of `{ type: "taperedCapsule" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TaperedCapsuleSpec {
+    /// Start.
+    pub a: [f64; 3],
+    /// End.
+    pub b: [f64; 3],
+    /// Radius at `a` and at `b`.
+    pub radius: [f64; 2],
+}
+
+/// Fields of `{ type: "plane" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlaneSpec {
+    /// Normal (any non-zero length).
+    pub normal: [f64; 3],
+    /// Offset.
+    pub offset: f64,
+}
+
+/// Fields of `{ type: "rectangle" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct RectangleSpec {
+    /// Centre.
+    pub center: [f64; 3],
+    /// In-plane axes.
+    pub axes: [[f64; 3]; 2],
+    /// Half extents along the axes.
+    pub half_extents: [f64; 2],
+}
+
+/// Fields of `{ type: "disk" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DiskSpec {
+    /// Centre.
+    pub center: [f64; 3],
+    /// Normal.
+    pub normal: [f64; 3],
+    /// Radius.
+    pub radius: f64,
+}
+
+/// Fields of `{ type: "polygon" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PolygonSpec {
+    /// Vertices in order.
+    pub vertices: Vec<[f64; 3]>,
+}
+
+/// Fields of `{ type: "box" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct BoxSpec {
+    /// Centre.
+    pub center: [f64; 3],
+    /// Half extents.
+    pub half_extents: [f64; 3],
+    /// Orientation quaternion `[x, y, z, w]` (identity when absent).
+    #[serde(default)]
+    pub rotation: Option<[f64; 4]>,
+}
+
+/// Fields of `{ type: "convexHull" }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ConvexHullSpec {
+    /// The points whose hull is taken.
+    pub points: Vec<[f64; 3]>,
 }
 
 impl PrimitiveSpec {

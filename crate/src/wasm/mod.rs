@@ -1,5 +1,7 @@
 //! The `#[wasm_bindgen]` layer: converts and validates, no logic.
 
+mod distance;
+
 use wasm_bindgen::prelude::*;
 
 /// Installs the panic hook (a last resort: nothing reachable from JS should panic).
