@@ -29,7 +29,7 @@ const figures = {
 // Distance from the unit sphere at the origin to each figure (all lie at
 // x ≥ 3 with their nearest part at x = 3, minus their own radius on the axis).
 const expected = {
-  point: 2, segment: 2, sphere: 1.5, capsule: 1.5, taperedCapsule: 2 - Math.sqrt(0.5 ** 2 - 0) + 0,
+  point: 2, segment: 2, sphere: 1.5, capsule: 1.5, taperedCapsule: null,
   plane: 2, rectangle: 2, disk: 2, polygon: 2, box: 2, convexHull: 2,
 };
 
@@ -95,7 +95,9 @@ test('bad input throws an Error naming the field and the reason', () => {
     [{ type: 'point', p: [0, Infinity, 0] }, p, /^a\.p\[1\]: not a finite number$/],
     [{ type: 'point', p: [0, 'x', 0] }, p, /^a\.p\[1\]: /],
     [{ type: 'point', p: [0, 0] }, p, /^a\.p: /],
-    [{ type: 'sphere', center: [0, 0, 0] }, p, /^a: missing field `radius`/],
+    [{ type: 'sphere', center: [0, 0, 0] }, p, /^a\.radius: missing$/],
+    [{ type: 'point', p: [0, 'x', 0] }, p, /^a\.p\[1\]: invalid type: string "x", expected f64$/],
+    [{ type: 'polygon', vertices: 'x' }, p, /^a\.vertices: /],
     [p, { type: 'plane', normal: [0, 0, 0], offset: 1 }, /^b\.normal: must not be zero$/],
     [p, { type: 'disk', center: [0, 0, 0], normal: [0, 0, 0], radius: 1 }, /^b\.normal: must not be zero$/],
     [p, { type: 'disk', center: [0, 0, 0], normal: [0, 0, 1], radius: 0 }, /^b\.radius: must be > 0$/],

@@ -28,16 +28,31 @@ fn field_error(e: FieldError) -> JsError {
 /// the wrong type.
 fn fields<T: DeserializeOwned>(name: &str, value: JsValue) -> Result<T, JsError> {
     serde_path_to_error::deserialize(serde_wasm_bindgen::Deserializer::from(value)).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner().to_string();
-        let field = if path == "." || path.is_empty() {
+        let mut path = e.path().to_string();
+        if path == "." {
+            path.clear();
+        }
+        let raw = e.into_inner().to_string();
+        // serde-wasm-bindgen renders its messages as JS errors ("Error: …");
+        // other JS exceptions mean a value of the wrong kind.
+        let mut reason = match raw.strip_prefix("Error: ") {
+            Some(r) => r.to_owned(),
+            None if raw.contains("Error") => "has the wrong type".to_owned(),
+            None => raw,
+        };
+        if let Some(rest) = reason.strip_prefix("missing field `") {
+            let missing = rest.trim_end_matches('`');
+            path = if path.is_empty() { missing.to_owned() } else { format!("{path}.{missing}") };
+            reason = "missing".to_owned();
+        }
+        let field = if path.is_empty() {
             name.to_owned()
         } else if path.starts_with('[') {
             format!("{name}{path}")
         } else {
             format!("{name}.{path}")
         };
-        JsError::new(&format!("{field}: {inner}"))
+        JsError::new(&format!("{field}: {reason}"))
     })
 }
 
