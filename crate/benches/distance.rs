@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use criterion::Criterion;
 use glam::{DQuat, DVec3};
 use parry3d_f64::math::Pose;
-use parry3d_f64::query::{self, PointQuery};
+use parry3d_f64::query;
 use parry3d_f64::shape::{
     Ball, Capsule as PCapsule, Cuboid, Cylinder, HalfSpace, Segment as PSegment, Shape, TriMesh,
 };

@@ -140,6 +140,14 @@ fn segment_cuboid_local(x0: DVec3, dx: DVec3, h: DVec3) -> (f64, f64, bool) {
     (best.0, best.1, true)
 }
 
+/// Squared distance from the segment `s0`–`s1` to the axis-aligned box
+/// `[min, max]` (the scene query's exact mid-phase test).
+pub(crate) fn segment_aabb_distance2(s0: DVec3, s1: DVec3, min: DVec3, max: DVec3) -> f64 {
+    let c = 0.5 * (min + max);
+    let h = 0.5 * (max - min);
+    segment_cuboid_local(s0 - c, s1 - s0, h).0
+}
+
 /// Segment `s0`–`s1` (non-zero length) against a rectangle.
 pub(crate) fn segment_rectangle(s0: DVec3, s1: DVec3, r: &Rectangle) -> Closest {
     let basis = [r.axes[0], r.axes[1], r.normal];

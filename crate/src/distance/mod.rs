@@ -43,10 +43,10 @@
 //! Tapered capsules whose two radii differ: against a point or a sphere the
 //! clearance is exact (closed form of the round cone). Against any other
 //! figure it is the minimum over the segment of the clearance of the ball
-//! centred there, found by golden-section search and lowered by the search's
-//! remaining uncertainty, so it is never larger than the true clearance (by at
-//! most ~1e-12 of the segment length smaller); a non-convex polygon is the
-//! union of its triangles.
+//! centred there, found by a bracketing search on its slope that certifies a
+//! lower bound, so it is never larger than the true clearance (and at most
+//! ~1e-13 of the figure's size smaller); a non-convex polygon is the union of
+//! its triangles.
 
 mod cuboid;
 mod disk;

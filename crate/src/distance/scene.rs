@@ -5,13 +5,15 @@
 //! A bounding-volume hierarchy over the obstacles' axis-aligned boxes (built
 //! once per [`Scene::new`] or edit, median split on the widest axis) keeps the
 //! cost of a query close to the number of obstacles near the skeleton;
-//! infinite planes are always tested.
+//! infinite planes are always tested. Each candidate's box is then checked
+//! exactly against the segment's axis (a mid-phase) before the narrow phase.
 
 use glam::DVec3;
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::Ray;
 use parry3d_f64::shape::{Ball, Capsule as ParryCapsule};
 
+use super::cuboid::segment_aabb_distance2;
 use super::generic::parry_shape;
 use super::point::segment_parameter;
 use super::{
@@ -399,8 +401,24 @@ impl Scene {
                 }
                 BroadPhase::BruteForce => candidates.extend(0..self.obstacles.len()),
             }
+            let (s0, s1, rmax) = match vol {
+                Primitive::Capsule(c) => (c.segment.a, c.segment.b, c.radius),
+                Primitive::TaperedCapsule(c) => (c.segment.a, c.segment.b, c.max_radius()),
+                Primitive::Segment(s) => (s.a, s.b, 0.0),
+                _ => (DVec3::ZERO, DVec3::ZERO, f64::INFINITY),
+            };
+            let reach2 = (influence + rmax) * (influence + rmax);
             for &j in &candidates {
                 let o = &self.obstacles[j];
+                // Mid-phase: the exact distance from the axis to the
+                // obstacle's box rules out most candidates of the box test.
+                let b = &self.bounds[j];
+                if options.broad_phase == BroadPhase::Hierarchy
+                    && b.is_finite()
+                    && segment_aabb_distance2(s0, s1, b.min, b.max) > reach2
+                {
+                    continue;
+                }
                 let d = distance(vol, &o.shape)?;
                 if d.distance <= influence {
                     out.push(pair(i, vol, Target::Obstacle { index: j, id: o.id }, d));
