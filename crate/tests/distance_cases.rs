@@ -420,3 +420,37 @@ fn bad_input_names_the_field_and_the_reason() {
         assert!(Primitive::from_spec(&spec(json)).is_ok(), "{json}");
     }
 }
+
+#[test]
+fn family_witness_moves_continuously_as_the_obstacle_slides() {
+    // A capsule lying parallel above each flat figure (and a box top) while
+    // the figure slides under it: the witness follows the middle of the
+    // overlap, never jumping by more than the step.
+    let link = Primitive::Capsule(Capsule::new(v(0., 0., 1.), v(2., 0., 1.), 0.1).unwrap());
+    let figures = [
+        Primitive::Rectangle(
+            Rectangle::new(DVec3::ZERO, [DVec3::X, DVec3::Y], [0.5, 0.5]).unwrap(),
+        ),
+        Primitive::Disk(Disk::new(DVec3::ZERO, DVec3::Z, 0.5).unwrap()),
+        square(0.),
+        Primitive::Box(
+            OrientedBox::new(v(0., 0., -0.5), v(0.5, 0.5, 0.5), [0., 0., 0., 1.]).unwrap(),
+        ),
+        Primitive::Capsule(Capsule::new(v(-0.5, 0.3, 0.), v(0.5, 0.3, 0.), 0.1).unwrap()),
+    ];
+    let step = 0.02;
+    for fig in figures {
+        let mut last: Option<DVec3> = None;
+        for k in 0..=150 {
+            let x = -0.5 + step * f64::from(k);
+            let d = distance(&link, &fig.translated(v(x, 0., 0.))).unwrap();
+            if let Some(p) = last {
+                assert!(
+                    (d.point_a - p).length() <= step + 1e-9,
+                    "{fig:?} at {x}: {d:?}"
+                );
+            }
+            last = Some(d.point_a);
+        }
+    }
+}

@@ -289,8 +289,11 @@ fn random_pairs_of_every_kind() {
                         );
                     }
                 }
-                // No sampled point of A is closer to B (and vice versa).
+                // No sampled point of A is closer to B (and vice versa); a
+                // clear overlap shows in the samples too.
+                let mut inside = false;
                 for x in samples(&mut rng, &a, 60) {
+                    inside |= to_figure(x, &b) <= 0.0;
                     let d = to_figure(x, &b);
                     assert!(
                         d >= dab.distance - 1e3 * tol || (d <= 0.0 && dab.distance <= 1e3 * tol),
@@ -299,10 +302,22 @@ fn random_pairs_of_every_kind() {
                 }
                 for y in samples(&mut rng, &b, 60) {
                     let d = to_figure(y, &a);
+                    inside |= d <= 0.0;
                     assert!(
                         d >= dab.distance - 1e3 * tol || (d <= 0.0 && dab.distance <= 1e3 * tol),
                         "sample of B closer {d} {ctx}"
                     );
+                }
+                if dab.distance < -0.1 && a.is_solid() && b.is_solid() {
+                    assert!(inside, "reported overlap not seen in samples {ctx}");
+                }
+                // Overlapping round solids: each witness is the deepest point
+                // of its figure inside the other.
+                let round =
+                    |p: &Primitive| matches!(p, Primitive::Sphere(_) | Primitive::Capsule(_));
+                if dab.distance < -1e-9 && round(&a) && round(&b) {
+                    assert!(to_figure(dab.point_a, &b) <= 1e-9, "pa inside B {ctx}");
+                    assert!(to_figure(dab.point_b, &a) <= 1e-9, "pb inside A {ctx}");
                 }
             }
         }
