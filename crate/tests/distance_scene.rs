@@ -143,7 +143,11 @@ fn pairs_report_clearance_witnesses_and_fraction() {
         assert_eq!(d.distance, p.distance);
         // The fraction locates the core point under the witness.
         let core = a + (b - a) * p.fraction;
-        assert!((p.point_segment - core).length() <= seg.radius[0].max(seg.radius[1]) + 1e-9);
+        let r = seg.radius[0] + (seg.radius[1] - seg.radius[0]) * p.fraction;
+        assert!(
+            (p.point_segment - core - p.normal * r).length() < 1e-9,
+            "{p:?}"
+        );
     }
     // The first segment stands on the base at z = 0: 0.1 above the plane,
     // minus its radius.

@@ -270,6 +270,15 @@ impl Polygon {
     /// finite number`, `vertices[k]: repeats the previous vertex`,
     /// `vertices: polygon has zero area`, `vertices: polygon is not planar`,
     /// `vertices: polygon is self-intersecting`.
+    ///
+    /// # Example
+    /// ```
+    /// use glam::DVec3;
+    /// use skeleton_avoidance::distance::Polygon;
+    /// let v = |x, y, z| DVec3::new(x, y, z);
+    /// let bent = Polygon::new(vec![v(0., 0., 0.), v(1., 0., 0.), v(1., 1., 0.), v(0., 1., 1.)]);
+    /// assert_eq!(bent.unwrap_err().to_string(), "vertices: polygon is not planar");
+    /// ```
     pub fn new(vertices: Vec<DVec3>) -> Result<Self, FieldError> {
         let n = vertices.len();
         if n < 3 {
@@ -687,6 +696,14 @@ impl Primitive {
     ///
     /// # Errors
     /// The first invalid field, with its path inside the description.
+    ///
+    /// # Example
+    /// ```
+    /// use skeleton_avoidance::distance::{Primitive, PrimitiveSpec, SphereSpec};
+    /// let spec = PrimitiveSpec::Sphere(SphereSpec { center: [0.0; 3], radius: 0.0 });
+    /// let err = Primitive::from_spec(&spec).unwrap_err();
+    /// assert_eq!(err.to_string(), "radius: must be > 0");
+    /// ```
     pub fn from_spec(spec: &PrimitiveSpec) -> Result<Self, FieldError> {
         let v = |a: [f64; 3]| DVec3::from_array(a);
         Ok(match spec {

@@ -15,10 +15,8 @@ use parry3d_f64::shape::{Ball, Capsule as ParryCapsule};
 
 use super::cuboid::segment_aabb_distance2;
 use super::generic::parry_shape;
-use super::point::segment_parameter;
 use super::{
-    Capsule, Core, Distance, DistanceError, LineSegment, Primitive, TaperedCapsule, core_of,
-    distance,
+    Capsule, Distance, DistanceError, LineSegment, Primitive, TaperedCapsule, core_of, distance,
 };
 use crate::error::{FieldError, finite3, non_negative};
 use crate::skeleton::Skeleton;
@@ -367,6 +365,31 @@ impl Scene {
     /// # Errors
     /// `influenceDistance: …` when negative or not finite;
     /// `skeleton.nodes[k][j]: not a finite number`; an unsupported pair.
+    ///
+    /// # Example
+    /// ```
+    /// use glam::DVec3;
+    /// use skeleton_avoidance::distance::{
+    ///     parent_adjacency, Obstacle, Primitive, QueryOptions, Scene, Sphere,
+    /// };
+    /// use skeleton_avoidance::skeleton::{Segment, Skeleton, SpinePart};
+    ///
+    /// let arm = Skeleton {
+    ///     nodes: vec![DVec3::ZERO, DVec3::new(0.0, 0.0, 0.4), DVec3::new(0.3, 0.0, 0.4)],
+    ///     segments: vec![
+    ///         Segment { from: 0, to: 1, link: 1, part: SpinePart::D, radius: [0.05, 0.05] },
+    ///         Segment { from: 1, to: 2, link: 2, part: SpinePart::A, radius: [0.05, 0.05] },
+    ///     ],
+    /// };
+    /// let ball = Sphere::new(DVec3::new(0.15, 0.2, 0.4), 0.05).unwrap();
+    /// let scene = Scene::new(vec![Obstacle { id: 1, shape: Primitive::Sphere(ball) }]);
+    /// let parents = [0, 0, 1]; // link 1 on the base, link 2 on link 1
+    /// let pairs = scene
+    ///     .query(&arm, &QueryOptions::default(), parent_adjacency(&parents))
+    ///     .unwrap();
+    /// let near = pairs.iter().find(|p| p.segment == 1).unwrap();
+    /// assert!((near.fraction - 0.5).abs() < 1e-6);
+    /// ```
     pub fn query(
         &self,
         skeleton: &Skeleton,
@@ -449,6 +472,17 @@ impl Scene {
     /// # Errors
     /// Non-finite input, `direction: must not be zero`, negative
     /// `pickRadius`.
+    ///
+    /// # Example
+    /// ```
+    /// use glam::DVec3;
+    /// use skeleton_avoidance::distance::{Obstacle, Primitive, Scene, Sphere};
+    /// let ball = Sphere::new(DVec3::new(0.0, 0.0, 2.0), 0.5).unwrap();
+    /// let scene = Scene::new(vec![Obstacle { id: 4, shape: Primitive::Sphere(ball) }]);
+    /// let hit = scene.pick(DVec3::ZERO, DVec3::Z, 0.01).unwrap().unwrap();
+    /// assert_eq!(hit.id, 4);
+    /// assert!((hit.point.z - 1.5).abs() < 1e-9);
+    /// ```
     pub fn pick(
         &self,
         origin: DVec3,
@@ -548,10 +582,20 @@ fn volume(s: LineSegment, radius: [f64; 2]) -> Primitive {
 }
 
 fn pair(i: usize, vol: &Primitive, target: Target, d: Distance) -> PairDistance {
-    let (a, b) = match core_of(vol).0 {
-        Core::Segment(a, b) => (a, b),
-        Core::Point(a) => (a, a),
-        _ => (DVec3::ZERO, DVec3::ZERO),
+    // The witness is c(t) + r(t)·normal with c(t) = a + t·(b − a) and
+    // r(t) = r0 + t·(r1 − r0), so t follows from it exactly.
+    let (a, b, r0, r1) = match vol {
+        Primitive::Capsule(c) => (c.segment.a, c.segment.b, c.radius, c.radius),
+        Primitive::TaperedCapsule(c) => (c.segment.a, c.segment.b, c.radius[0], c.radius[1]),
+        Primitive::Segment(s) => (s.a, s.b, 0.0, 0.0),
+        _ => (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0),
+    };
+    let dir = (b - a) + d.normal * (r1 - r0);
+    let l2 = dir.length_squared();
+    let fraction = if l2 > 0.0 {
+        ((d.point_a - a - d.normal * r0).dot(dir) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
     };
     PairDistance {
         segment: i,
@@ -559,7 +603,7 @@ fn pair(i: usize, vol: &Primitive, target: Target, d: Distance) -> PairDistance 
         distance: d.distance,
         point_segment: d.point_a,
         point_other: d.point_b,
-        fraction: segment_parameter(d.point_a, a, b),
+        fraction,
         normal: d.normal,
         unique: d.unique,
     }
