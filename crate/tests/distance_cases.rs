@@ -454,3 +454,68 @@ fn family_witness_moves_continuously_as_the_obstacle_slides() {
         }
     }
 }
+
+#[test]
+fn ear_clipping_with_a_reflex_vertex_on_a_diagonal() {
+    // Vertex 3 lies exactly on the diagonal 4–1: neither 4-0-1 nor 4-1-2 is
+    // an ear, and the triangles must cover the polygon, not its notch.
+    let verts = vec![
+        v(0., 0., 0.),
+        v(1., 0., 0.),
+        v(1., 0.2, 0.),
+        v(0.5, 0.5, 0.),
+        v(0., 1., 0.),
+    ];
+    let poly = Polygon::new(verts.clone()).unwrap();
+    let area = |a: DVec3, b: DVec3, c: DVec3| 0.5 * (b - a).cross(c - a).z;
+    let tris = poly.triangles();
+    assert_eq!(tris.len(), 3);
+    let total: f64 = tris
+        .iter()
+        .map(|t| area(verts[t[0]], verts[t[1]], verts[t[2]]))
+        .sum();
+    let shoelace: f64 = (0..5)
+        .map(|k| area(DVec3::ZERO, verts[k], verts[(k + 1) % 5]))
+        .sum();
+    assert!((total - shoelace).abs() < 1e-15, "{total} vs {shoelace}");
+    assert!(
+        tris.iter()
+            .all(|t| area(verts[t[0]], verts[t[1]], verts[t[2]]) > 0.0)
+    );
+    // A box above the notch is measured to the polygon, not to the notch.
+    let b = Primitive::Box(
+        OrientedBox::new(v(0.5, 0.6, 1.), v(0.01, 0.01, 0.01), [0., 0., 0., 1.]).unwrap(),
+    );
+    let d = distance(&b, &Primitive::Polygon(poly)).unwrap();
+    assert!(d.distance > 0.99 + 1e-6, "{d:?}");
+}
+
+#[test]
+fn flat_figures_against_each_other_side_by_side() {
+    // Coplanar and crossing rectangles, polygons and disks.
+    let r =
+        Primitive::Rectangle(Rectangle::new(DVec3::ZERO, [DVec3::X, DVec3::Y], [1., 1.]).unwrap());
+    let far = Primitive::Rectangle(
+        Rectangle::new(v(3., 0., 0.), [DVec3::X, DVec3::Y], [1., 1.]).unwrap(),
+    );
+    let d = distance(&r, &far).unwrap();
+    assert!((d.distance - 1.0).abs() < 1e-15 && !d.unique);
+    assert!(
+        near(d.point_a, v(1., 0., 0.)) && near(d.point_b, v(2., 0., 0.)),
+        "{d:?}"
+    );
+    let inner = Primitive::Polygon(
+        Polygon::new(vec![v(-0.2, -0.2, 0.), v(0.2, -0.2, 0.), v(0., 0.3, 0.)]).unwrap(),
+    );
+    assert_eq!(distance(&r, &inner).unwrap().distance, 0.0);
+    let upright = Primitive::Rectangle(
+        Rectangle::new(v(0., 0., 0.5), [DVec3::X, DVec3::Z], [0.3, 1.]).unwrap(),
+    );
+    assert!(distance(&r, &upright).unwrap().distance.abs() < 1e-15);
+    let disk = Primitive::Disk(Disk::new(v(0., 0., 2.), v(1., 0., 1.), 0.5).unwrap());
+    let d = distance(&r, &disk).unwrap();
+    let lowest = 2.0 - 0.5 / 2f64.sqrt();
+    assert!((d.distance - lowest).abs() < 1e-12, "{d:?}");
+    let crossing = Primitive::Disk(Disk::new(v(0.5, 0., 0.2), DVec3::X, 0.5).unwrap());
+    assert!(distance(&crossing, &square(0.)).unwrap().distance.abs() < 1e-15);
+}

@@ -1,13 +1,13 @@
 //! parry for the pairs with no closed form here: a convex hull against
-//! anything but a plane, and flat figures or boxes against each other.
+//! anything but a plane, and disks and boxes against flat figures and boxes.
 //! Flat figures become zero-thickness parry shapes (a rectangle a cuboid of
-//! zero height, a disk a cylinder of zero height, a polygon the triangle
-//! mesh of its ear-clipping triangulation).
+//! zero height, a disk a cylinder of zero height, a polygon the triangles of
+//! its ear-clipping triangulation, each measured on its own).
 
 use glam::{DMat3, DQuat, DVec3};
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::{self, ClosestPoints, PointQuery};
-use parry3d_f64::shape::{Cuboid, Cylinder, Segment as ParrySegment, Shape, TriMesh};
+use parry3d_f64::shape::{Cuboid, Cylinder, Segment as ParrySegment, Shape, Triangle};
 
 use super::{Closest, ConvexHull, Core, DistanceError};
 
@@ -45,66 +45,94 @@ pub(crate) fn parry_shape(core: Core<'_>) -> Option<(Pose, Box<dyn Shape>)> {
             Pose::from_parts(d.center, DQuat::from_rotation_arc(DVec3::Y, d.normal)),
             Box::new(Cylinder::new(0.0, d.radius)),
         ),
-        Core::Polygon(poly) => {
-            let v = poly.vertices().to_vec();
-            let idx: Vec<[u32; 3]> = poly
-                .triangles()
-                .iter()
-                .map(|t| [t[0] as u32, t[1] as u32, t[2] as u32])
-                .collect();
-            (Pose::IDENTITY, Box::new(TriMesh::new(v, idx).ok()?))
-        }
         Core::Box(b) => (
             Pose::from_parts(b.center, b.rotation),
             Box::new(Cuboid::new(b.half_extents)),
         ),
         Core::Hull(h) => (Pose::IDENTITY, Box::new(h.shape().clone())),
-        Core::Point(_) | Core::Plane(_) => return None,
+        Core::Point(_) | Core::Plane(_) | Core::Polygon(_) => return None,
     })
 }
 
 /// Two cores through parry's closest points (and its contact query for the
-/// depth when a solid overlaps).
+/// depth when a solid overlaps); a polygon is measured triangle by triangle.
 pub(crate) fn generic(a: Core<'_>, b: Core<'_>) -> Result<Closest, DistanceError> {
     let unsupported = || DistanceError::UnsupportedPair {
         a: a.kind(),
         b: b.kind(),
     };
-    let (pose_a, sa) = parry_shape(a).ok_or_else(unsupported)?;
-    let (pose_b, sb) = parry_shape(b).ok_or_else(unsupported)?;
-    match query::closest_points(&pose_a, sa.as_ref(), &pose_b, sb.as_ref(), f64::MAX) {
-        Ok(ClosestPoints::WithinMargin(p1, p2)) => Ok(Closest::between(p1, p2, true)),
+    let parts_a = parts(a).ok_or_else(unsupported)?;
+    let parts_b = parts(b).ok_or_else(unsupported)?;
+    let solid =
+        matches!(a, Core::Box(_) | Core::Hull(_)) || matches!(b, Core::Box(_) | Core::Hull(_));
+    let mut best: Option<Closest> = None;
+    for (pa, sa) in &parts_a {
+        for (pb, sb) in &parts_b {
+            let c = pair(pa, sa.as_ref(), pb, sb.as_ref(), solid).ok_or_else(unsupported)?;
+            if best.is_none_or(|x| c.d < x.d) {
+                best = Some(c);
+            }
+        }
+    }
+    best.ok_or_else(unsupported)
+}
+
+/// A core as parry shapes: one, or a polygon's triangles.
+fn parts(core: Core<'_>) -> Option<Vec<(Pose, Box<dyn Shape>)>> {
+    if let Core::Polygon(poly) = core {
+        let v = poly.vertices();
+        return Some(
+            poly.triangles()
+                .into_iter()
+                .map(|[i, j, k]| {
+                    let t: Box<dyn Shape> = Box::new(Triangle::new(v[i], v[j], v[k]));
+                    (Pose::IDENTITY, t)
+                })
+                .collect(),
+        );
+    }
+    parry_shape(core).map(|p| vec![p])
+}
+
+/// One pair of parry shapes.
+fn pair(
+    pose_a: &Pose,
+    sa: &dyn Shape,
+    pose_b: &Pose,
+    sb: &dyn Shape,
+    solid: bool,
+) -> Option<Closest> {
+    match query::closest_points(pose_a, sa, pose_b, sb, f64::MAX) {
+        Ok(ClosestPoints::WithinMargin(p1, p2)) => Some(Closest::between(p1, p2, true)),
         Ok(_) => {
-            let solid = |c: Core<'_>| matches!(c, Core::Box(_) | Core::Hull(_));
-            let contact = query::contact(&pose_a, sa.as_ref(), &pose_b, sb.as_ref(), 0.0)
-                .map_err(|_| unsupported())?;
-            let Some(c) = contact else {
-                return Ok(Closest {
+            let Some(c) = query::contact(pose_a, sa, pose_b, sb, 0.0).ok()? else {
+                let p = pose_a.translation;
+                return Some(Closest {
                     d: 0.0,
-                    pa: pose_a.translation,
-                    pb: pose_a.translation,
+                    pa: p,
+                    pb: p,
                     n: DVec3::ZERO,
                     unique: false,
                 });
             };
-            if solid(a) || solid(b) {
-                Ok(Closest {
+            Some(if solid {
+                Closest {
                     d: c.dist.min(0.0),
                     pa: c.point1,
                     pb: c.point2,
                     n: c.normal1,
                     unique: true,
-                })
+                }
             } else {
-                Ok(Closest {
+                Closest {
                     d: 0.0,
                     pa: c.point1,
                     pb: c.point1,
                     n: c.normal1,
                     unique: false,
-                })
-            }
+                }
+            })
         }
-        Err(_) => Err(unsupported()),
+        Err(_) => None,
     }
 }

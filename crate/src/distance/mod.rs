@@ -12,9 +12,10 @@
 //!   boxes: the squared distance along the segment is a convex piecewise
 //!   quadratic whose pieces are minimised exactly), `disk` (segment against
 //!   a disk: one monotone root of the derivative), `polygon` (segment against
-//!   a planar, possibly non-convex polygon), `tapered` (the skeleton's tapered
+//!   a planar, possibly non-convex polygon, and rectangles, polygons and disks
+//!   against each other through their sides), `tapered` (the skeleton's tapered
 //!   capsule), and `generic` (parry for the pairs with no closed form here:
-//!   convex hulls, and flat figures or boxes against each other).
+//!   convex hulls, and disks or boxes against flat figures and boxes).
 //! * [`distance`]: the one dispatcher, accepting either order.
 //! * [`scene`]: every skeleton segment against a set of obstacles through a
 //!   bounding-volume hierarchy, self-collision pairs, and picking by ray.
@@ -271,6 +272,10 @@ pub(crate) fn core_distance(a: Core<'_>, b: Core<'_>) -> Result<Closest, Distanc
         (Core::Segment(s0, s1), Core::Polygon(q)) => polygon::segment_polygon(s0, s1, q),
         (Core::Segment(s0, s1), Core::Box(b)) => cuboid::segment_box(s0, s1, b),
         (Core::Plane(q), _) => plane::plane_core(q, b)?,
+        (Core::Rectangle(_), Core::Rectangle(_) | Core::Polygon(_))
+        | (Core::Polygon(_), Core::Polygon(_)) => polygon::flat_flat(a, b),
+        (Core::Rectangle(_), Core::Disk(d)) => polygon::flat_disk(a, d),
+        (Core::Disk(d), Core::Polygon(_)) => polygon::flat_disk(b, d).flipped(),
         _ => generic::generic(a, b)?,
     })
 }
@@ -278,9 +283,10 @@ pub(crate) fn core_distance(a: Core<'_>, b: Core<'_>) -> Result<Closest, Distanc
 /// The signed distance between two primitives, with witness points; either
 /// order, every pair of figures.
 ///
-/// Closed forms serve every pair with a point, sphere, segment, capsule or
-/// plane, and segment–segment; parry serves convex hulls and flat figures
-/// or boxes against each other.
+/// Closed forms serve every pair with a point, sphere, segment, capsule,
+/// tapered capsule or plane, and rectangles, polygons and disks against
+/// each other (but disk–disk); parry serves convex hulls, disk–disk, and
+/// boxes against flat figures and boxes.
 ///
 /// # Errors
 /// [`DistanceError::UnsupportedPair`] if parry declines a pair it should

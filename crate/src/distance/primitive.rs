@@ -394,10 +394,17 @@ impl Polygon {
         let pts = &self.local;
         let mut idx: Vec<usize> = (0..pts.len()).collect();
         let mut out = Vec::with_capacity(pts.len().saturating_sub(2));
+        // A vertex on (or within rounding of) a candidate ear's boundary
+        // disqualifies it.
+        let scale = pts
+            .iter()
+            .map(|p| (*p - pts[0]).length())
+            .fold(0.0, f64::max);
+        let eps = 1e-12 * scale * scale;
         let inside = |p: DVec2, a: DVec2, b: DVec2, c: DVec2| {
-            (b - a).perp_dot(p - a) >= 0.0
-                && (c - b).perp_dot(p - b) >= 0.0
-                && (a - c).perp_dot(p - c) >= 0.0
+            (b - a).perp_dot(p - a) >= -eps
+                && (c - b).perp_dot(p - b) >= -eps
+                && (a - c).perp_dot(p - c) >= -eps
         };
         while idx.len() > 3 {
             let m = idx.len();
@@ -433,6 +440,12 @@ impl Polygon {
             out.push([idx[0], idx[1], idx[2]]);
         }
         out
+    }
+
+    /// The sides as segments, `vertices[k]`–`vertices[k + 1]`.
+    pub(crate) fn sides(&self) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
+        let v = &self.vertices;
+        (0..v.len()).map(move |k| (v[k], v[(k + 1) % v.len()]))
     }
 
     /// Whether the in-plane point `q` is inside (even–odd rule; points on the

@@ -547,7 +547,7 @@ fn cast(shape: &Primitive, ray: &Ray, pick_radius: f64) -> Option<f64> {
             let t = -p.signed_distance(ray.origin) / den;
             (t >= 0.0).then_some(t)
         }
-        Primitive::Polygon(poly) if !poly.is_convex() => {
+        Primitive::Polygon(poly) => {
             let n = poly.normal();
             let den = n.dot(ray.dir);
             let (_, h) = poly.to_local(ray.origin);
