@@ -207,10 +207,10 @@ fn to_figure(p: DVec3, fig: &Primitive) -> f64 {
     }
 }
 
-/// Tolerance of a pair: closed forms are exact to rounding; parry's GJK is
-/// not.
+/// Tolerance of a pair: closed forms are exact to rounding; parry's GJK
+/// (hulls, disk–disk, boxes against flat figures and boxes) is not.
 fn tolerance(a: &Primitive, b: &Primitive) -> f64 {
-    let generic = |p: &Primitive| {
+    let flat_or_box = |p: &Primitive| {
         matches!(
             p,
             Primitive::Rectangle(_)
@@ -219,8 +219,11 @@ fn tolerance(a: &Primitive, b: &Primitive) -> f64 {
                 | Primitive::Box(_)
         )
     };
+    let is_box = |p: &Primitive| matches!(p, Primitive::Box(_));
     let hull = |p: &Primitive| matches!(p, Primitive::ConvexHull(_));
-    if hull(a) || hull(b) || (generic(a) && generic(b)) {
+    let disks = matches!((a, b), (Primitive::Disk(_), Primitive::Disk(_)));
+    let boxed = (is_box(a) && flat_or_box(b)) || (is_box(b) && flat_or_box(a));
+    if hull(a) || hull(b) || disks || boxed {
         1e-6
     } else {
         1e-9
