@@ -228,6 +228,28 @@ fn median_ns(rounds: usize, n: usize, mut f: impl FnMut()) -> f64 {
     times[times.len() / 2]
 }
 
+/// Medians (ns per query) of several workloads timed in alternating rounds.
+fn interleaved_medians<const K: usize>(
+    rounds: usize,
+    n: usize,
+    mut fs: [&mut dyn FnMut(); K],
+) -> [f64; K] {
+    let mut times = vec![Vec::with_capacity(rounds); K];
+    for _ in 0..rounds {
+        for (k, f) in fs.iter_mut().enumerate() {
+            let t0 = Instant::now();
+            f();
+            times[k].push(t0.elapsed().as_secs_f64() * 1e9 / n as f64);
+        }
+    }
+    let mut out = [0.0; K];
+    for (k, t) in times.iter_mut().enumerate() {
+        t.sort_by(f64::total_cmp);
+        out[k] = t[t.len() / 2];
+    }
+    out
+}
+
 const FAMILIES: [&str; 8] = [
     "segment–segment",
     "capsule–capsule",
@@ -250,25 +272,34 @@ fn pair_table() {
     let mut rng = Rng::new(2026);
     for family in FAMILIES {
         let cs = cases(family, &mut rng);
-        let ours = median_ns(31, cs.len(), || {
-            for c in &cs {
-                black_box(distance(black_box(&c.ours.0), black_box(&c.ours.1)).unwrap());
-            }
-        });
-        let theirs = median_ns(31, cs.len(), || {
-            for c in &cs {
-                let (p1, s1, p2, s2) = &c.theirs;
-                black_box(query::distance(p1, s1.as_ref(), p2, s2.as_ref()).unwrap());
-            }
-        });
-        let theirs_cp = median_ns(31, cs.len(), || {
-            for c in &cs {
-                let (p1, s1, p2, s2) = &c.theirs;
-                black_box(
-                    query::closest_points(p1, s1.as_ref(), p2, s2.as_ref(), f64::MAX).unwrap(),
-                );
-            }
-        });
+        // Interleaved rounds, so that load changes on a shared machine hit
+        // all three alike.
+        let [ours, theirs, theirs_cp] = interleaved_medians(
+            41,
+            cs.len(),
+            [
+                &mut || {
+                    for c in &cs {
+                        black_box(distance(black_box(&c.ours.0), black_box(&c.ours.1)).unwrap());
+                    }
+                },
+                &mut || {
+                    for c in &cs {
+                        let (p1, s1, p2, s2) = &c.theirs;
+                        black_box(query::distance(p1, s1.as_ref(), p2, s2.as_ref()).unwrap());
+                    }
+                },
+                &mut || {
+                    for c in &cs {
+                        let (p1, s1, p2, s2) = &c.theirs;
+                        black_box(
+                            query::closest_points(p1, s1.as_ref(), p2, s2.as_ref(), f64::MAX)
+                                .unwrap(),
+                        );
+                    }
+                },
+            ],
+        );
         let mut err_ours: f64 = 0.0;
         let mut err_theirs: f64 = 0.0;
         for c in &cs {
