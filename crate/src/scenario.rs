@@ -74,7 +74,9 @@ struct PresetRef {
     preset: String,
 }
 
-fn nested<T: serde::de::DeserializeOwned, E: serde::de::Error>(v: serde_json::Value) -> Result<T, E> {
+fn nested<T: serde::de::DeserializeOwned, E: serde::de::Error>(
+    v: serde_json::Value,
+) -> Result<T, E> {
     serde_path_to_error::deserialize(v).map_err(|e| {
         let path = e.path().to_string();
         if path == "." {
@@ -100,7 +102,10 @@ impl<'de> Deserialize<'de> for RobotRef {
 impl Serialize for RobotRef {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match self {
-            Self::Preset(name) => PresetRef { preset: name.clone() }.serialize(s),
+            Self::Preset(name) => PresetRef {
+                preset: name.clone(),
+            }
+            .serialize(s),
             Self::Spec(spec) => spec.serialize(s),
         }
     }
@@ -235,7 +240,11 @@ pub fn reference_point(shape: &ShapeSpec) -> DVec3 {
             PrimitiveSpec::Plane(s) => {
                 let n = v(s.normal);
                 let l2 = n.length_squared();
-                if l2 > 0.0 { -s.offset * n / l2 } else { DVec3::ZERO }
+                if l2 > 0.0 {
+                    -s.offset * n / l2
+                } else {
+                    DVec3::ZERO
+                }
             }
             PrimitiveSpec::Rectangle(s) => v(s.center),
             PrimitiveSpec::Disk(s) => v(s.center),
@@ -272,7 +281,9 @@ pub fn translated(shape: &ShapeSpec, t: DVec3) -> ShapeSpec {
             PrimitiveSpec::Disk(s) => s.center = translate3(s.center, t),
             PrimitiveSpec::Polygon(s) => s.vertices.iter_mut().for_each(|p| *p = translate3(*p, t)),
             PrimitiveSpec::Box(s) => s.center = translate3(s.center, t),
-            PrimitiveSpec::ConvexHull(s) => s.points.iter_mut().for_each(|p| *p = translate3(*p, t)),
+            PrimitiveSpec::ConvexHull(s) => {
+                s.points.iter_mut().for_each(|p| *p = translate3(*p, t))
+            }
         },
     }
     out
@@ -344,15 +355,25 @@ impl Motion {
     pub fn validate(&self) -> Result<(), FieldError> {
         match self {
             Self::Static => Ok(()),
-            Self::Linear { velocity } => finite3("velocity", DVec3::from_array(*velocity)).map(|_| ()),
-            Self::Waypoints { points, times, repeat } => {
+            Self::Linear { velocity } => {
+                finite3("velocity", DVec3::from_array(*velocity)).map(|_| ())
+            }
+            Self::Waypoints {
+                points,
+                times,
+                repeat,
+            } => {
                 if points.is_empty() {
                     return Err(FieldError::new("points", "needs at least one point"));
                 }
                 if points.len() != times.len() {
                     return Err(FieldError::new(
                         "times",
-                        format!("expected {} times (one per point), got {}", points.len(), times.len()),
+                        format!(
+                            "expected {} times (one per point), got {}",
+                            points.len(),
+                            times.len()
+                        ),
                     ));
                 }
                 for (k, p) in points.iter().enumerate() {
@@ -365,11 +386,18 @@ impl Motion {
                     }
                 }
                 if *repeat && times.last().copied().unwrap_or(0.0) <= times[0] {
-                    return Err(FieldError::new("loop", "a looping motion needs times spanning a positive period"));
+                    return Err(FieldError::new(
+                        "loop",
+                        "a looping motion needs times spanning a positive period",
+                    ));
                 }
                 Ok(())
             }
-            Self::Circular { center, axis, period } => {
+            Self::Circular {
+                center,
+                axis,
+                period,
+            } => {
                 finite3("center", DVec3::from_array(*center))?;
                 let a = finite3("axis", DVec3::from_array(*axis))?;
                 if a.length_squared() == 0.0 {
@@ -388,7 +416,11 @@ impl Motion {
         match self {
             Self::Static => DVec3::ZERO,
             Self::Linear { velocity } => DVec3::from_array(*velocity) * t,
-            Self::Waypoints { points, times, repeat } => {
+            Self::Waypoints {
+                points,
+                times,
+                repeat,
+            } => {
                 let v = |k: usize| DVec3::from_array(points[k]);
                 let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
                     return DVec3::ZERO;
@@ -409,7 +441,11 @@ impl Motion {
                 let u = if t1 > t0 { (t - t0) / (t1 - t0) } else { 1.0 };
                 v(k - 1) + (v(k) - v(k - 1)) * u
             }
-            Self::Circular { center, axis, period } => {
+            Self::Circular {
+                center,
+                axis,
+                period,
+            } => {
                 let axis = DVec3::from_array(*axis).normalize_or_zero();
                 let r = reference - DVec3::from_array(*center);
                 let angle = std::f64::consts::TAU * t / period;
@@ -499,7 +535,11 @@ impl TaskSpec {
         }
         match self {
             Self::Hold => Ok(()),
-            Self::Goal { position, orientation, .. } => {
+            Self::Goal {
+                position,
+                orientation,
+                ..
+            } => {
                 finite3("position", DVec3::from_array(*position))?;
                 if let Some(o) = orientation {
                     unit_quat("orientation", *o)?;
@@ -513,7 +553,11 @@ impl TaskSpec {
                 if points.len() != times.len() {
                     return Err(FieldError::new(
                         "times",
-                        format!("expected {} times (one per point), got {}", points.len(), times.len()),
+                        format!(
+                            "expected {} times (one per point), got {}",
+                            points.len(),
+                            times.len()
+                        ),
                     ));
                 }
                 for (k, p) in points.iter().enumerate() {
@@ -565,7 +609,11 @@ impl SensingConfig {
     /// The sensing of obstacle `id`.
     #[must_use]
     pub fn for_obstacle(&self, id: &str) -> SensingSpec {
-        self.obstacles.get(id).copied().or(self.default).unwrap_or_default()
+        self.obstacles
+            .get(id)
+            .copied()
+            .or(self.default)
+            .unwrap_or_default()
     }
 }
 
@@ -654,18 +702,17 @@ impl Scenario {
         }
         let duration = crate::error::non_negative("duration", self.duration)?;
         if duration / dt > MAX_STEPS {
-            return Err(FieldError::new(
-                "duration",
-                format!("more than {MAX_STEPS} steps of dt"),
-            )
-            .into());
+            return Err(
+                FieldError::new("duration", format!("more than {MAX_STEPS} steps of dt")).into(),
+            );
         }
         if self.sample_every == 0 {
             return Err(FieldError::new("sampleEvery", "must be ≥ 1").into());
         }
         let mut ids = std::collections::BTreeSet::new();
         for (k, o) in self.obstacles.iter().enumerate() {
-            o.validate().map_err(|e| e.within(&format!("obstacles[{k}]")))?;
+            o.validate()
+                .map_err(|e| e.within(&format!("obstacles[{k}]")))?;
             if !ids.insert(o.id.as_str()) {
                 return Err(FieldError::new(
                     format!("obstacles[{k}].id"),
@@ -686,7 +733,9 @@ impl Scenario {
             }
             s.validate().map_err(|e| e.within(&field))?;
         }
-        self.dependability.validate().map_err(|e| e.within("dependability"))?;
+        self.dependability
+            .validate()
+            .map_err(|e| e.within("dependability"))?;
         Ok(())
     }
 }
@@ -704,7 +753,8 @@ pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), Fi
         robot.clamp_to_limits(&mut q);
         let frames = robot.forward(&q)?;
         for (k, p) in c.pinned.iter().enumerate() {
-            p.validate(robot, &frames).map_err(|e| e.within(&format!("pinned[{k}]")))?;
+            p.validate(robot, &frames)
+                .map_err(|e| e.within(&format!("pinned[{k}]")))?;
         }
     }
     Ok(())
@@ -775,7 +825,10 @@ pub fn example_json(name: &str) -> Result<&'static str, FieldError> {
         _ => {
             return Err(FieldError::new(
                 "name",
-                format!("unknown example \"{name}\" (known: {})", EXAMPLE_NAMES.join(", ")),
+                format!(
+                    "unknown example \"{name}\" (known: {})",
+                    EXAMPLE_NAMES.join(", ")
+                ),
             ));
         }
     })

@@ -46,9 +46,7 @@ use crate::scenario::{
     primitives, reference_point, translated, unit_quat, validate_controller,
 };
 use crate::skeleton::Skeleton;
-use crate::transition::{
-    MovingPoint, PointEvent, SkeletonPoint, TransitionSettings, dh_motion,
-};
+use crate::transition::{MovingPoint, PointEvent, SkeletonPoint, TransitionSettings, dh_motion};
 
 /// Radius within which a pick ray catches points and segments (m).
 pub const PICK_RADIUS: f64 = 0.02;
@@ -276,7 +274,10 @@ impl World {
     pub fn new(scenario: Scenario) -> Result<Self, ScenarioError> {
         scenario.validate()?;
         let robot = scenario.build_robot().map_err(err)?;
-        let mut q = scenario.q0.clone().unwrap_or_else(|| vec![0.0; robot.dof()]);
+        let mut q = scenario
+            .q0
+            .clone()
+            .unwrap_or_else(|| vec![0.0; robot.dof()]);
         robot.clamp_to_limits(&mut q);
         let frames = robot.forward(&q).map_err(err)?;
         let skeleton = Skeleton::build(&robot, &frames);
@@ -286,7 +287,8 @@ impl World {
             .iter()
             .enumerate()
             .map(|(k, o)| {
-                ObstacleState::new(o.clone(), &scenario, k).map_err(|e| e.within(&format!("obstacles[{k}]")))
+                ObstacleState::new(o.clone(), &scenario, k)
+                    .map_err(|e| e.within(&format!("obstacles[{k}]")))
             })
             .collect::<Result<Vec<_>, _>>()
             .map_err(err)?;
@@ -400,7 +402,11 @@ impl World {
                 self.owners.push(k);
                 obstacles.push(Obstacle {
                     id,
-                    shape: if off == DVec3::ZERO { p.clone() } else { p.translated(off) },
+                    shape: if off == DVec3::ZERO {
+                        p.clone()
+                    } else {
+                        p.translated(off)
+                    },
                 });
             }
         }
@@ -430,12 +436,20 @@ impl World {
         };
         match &self.scenario.task {
             TaskSpec::Hold => {}
-            TaskSpec::Goal { position, orientation, chain } => {
+            TaskSpec::Goal {
+                position,
+                orientation,
+                chain,
+            } => {
                 r.chain = *chain;
                 r.position = DVec3::from_array(*position);
                 r.orientation = orientation.and_then(|o| unit_quat("orientation", o).ok());
             }
-            TaskSpec::Trajectory { points, times, chain } => {
+            TaskSpec::Trajectory {
+                points,
+                times,
+                chain,
+            } => {
                 r.chain = *chain;
                 let v = |k: usize| DVec3::from_array(points[k]);
                 let t = self.t;
@@ -540,15 +554,31 @@ impl World {
                     }
                     selected.insert(
                         Key::SelfPair(p.segment, other),
-                        (SkeletonPoint { segment: p.segment, t: p.fraction }, None),
+                        (
+                            SkeletonPoint {
+                                segment: p.segment,
+                                t: p.fraction,
+                            },
+                            None,
+                        ),
                     );
                     let (a, b) = self.skeleton.endpoints(&self.skeleton.segments[other]);
                     let ab = b - a;
                     let l2 = ab.length_squared();
-                    let u = if l2 > 0.0 { ((p.point_other - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+                    let u = if l2 > 0.0 {
+                        ((p.point_other - a).dot(ab) / l2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
                     selected.insert(
                         Key::SelfPair(other, p.segment),
-                        (SkeletonPoint { segment: other, t: u }, None),
+                        (
+                            SkeletonPoint {
+                                segment: other,
+                                t: u,
+                            },
+                            None,
+                        ),
                     );
                 }
             }
@@ -556,14 +586,26 @@ impl World {
         for ((owner, segment), p) in &pair_best {
             selected.insert(
                 Key::Pair(*owner, *segment),
-                (SkeletonPoint { segment: *segment, t: p.fraction }, Some(*owner)),
+                (
+                    SkeletonPoint {
+                        segment: *segment,
+                        t: p.fraction,
+                    },
+                    Some(*owner),
+                ),
             );
         }
         if cfg.selection == Selection::PerObstacle {
             for (owner, p) in &best {
                 selected.insert(
                     Key::Obstacle(*owner),
-                    (SkeletonPoint { segment: p.segment, t: p.fraction }, Some(*owner)),
+                    (
+                        SkeletonPoint {
+                            segment: p.segment,
+                            t: p.fraction,
+                        },
+                        Some(*owner),
+                    ),
                 );
             }
         }
@@ -605,7 +647,8 @@ impl World {
             time_per_value: cfg.transition_time,
             jump_threshold: cfg.jump_threshold,
         };
-        self.trackers.retain(|k, _| selected.contains_key(k) || matches!(k, Key::Pinned(_)));
+        self.trackers
+            .retain(|k, _| selected.contains_key(k) || matches!(k, Key::Pinned(_)));
         let dep = self.scenario.dependability;
         let mut point_events = Vec::new();
         let keys: Vec<Key> = selected.keys().cloned().collect();
@@ -623,28 +666,45 @@ impl World {
             if let Some((segment, until)) = tracker.lock {
                 if t >= until {
                     tracker.lock = None;
-                    let obstacle = owner.map_or_else(String::new, |o| self.obstacles[o].spec.id.clone());
-                    self.events.push(Event { t, kind: EventKind::Unlock { obstacle } });
+                    let obstacle =
+                        owner.map_or_else(String::new, |o| self.obstacles[o].spec.id.clone());
+                    self.events.push(Event {
+                        t,
+                        kind: EventKind::Unlock { obstacle },
+                    });
                 } else if at.segment != segment {
                     let on_segment = pairs.iter().find(|p| {
                         p.segment == segment
                             && matches!(p.target, Target::Obstacle { id, .. } if Some(self.owners[id as usize]) == owner)
                     });
                     at = on_segment.map_or(
-                        SkeletonPoint { segment, t: if tracker.mover.point().segment == segment { tracker.mover.point().t } else { 0.5 } },
-                        |p| SkeletonPoint { segment, t: p.fraction },
+                        SkeletonPoint {
+                            segment,
+                            t: if tracker.mover.point().segment == segment {
+                                tracker.mover.point().t
+                            } else {
+                                0.5
+                            },
+                        },
+                        |p| SkeletonPoint {
+                            segment,
+                            t: p.fraction,
+                        },
                     );
                 }
             }
             point_events.clear();
-            tracker.mover.update(&self.skeleton, at, dt, &settings, &mut point_events)?;
+            tracker
+                .mover
+                .update(&self.skeleton, at, dt, &settings, &mut point_events)?;
             let mut switches = 0;
             for e in &point_events {
                 if matches!(e, PointEvent::SegmentSwitch { .. }) {
                     switches = tracker.counter.record(t, dep.switch_window);
                 }
             }
-            let chattering = tracker.counter.count(t, dep.switch_window) > dep.max_switches as usize;
+            let chattering =
+                tracker.counter.count(t, dep.switch_window) > dep.max_switches as usize;
             let rising = chattering && !tracker.chattering;
             tracker.chattering = chattering;
             let lock_segment = tracker.mover.point().segment;
@@ -654,33 +714,57 @@ impl World {
             let name = self.name(&key);
             for e in point_events.drain(..) {
                 let kind = match e {
-                    PointEvent::SegmentSwitch { from, to } => EventKind::SegmentSwitch { obstacle: name.clone(), from, to },
-                    PointEvent::TransitionStart { from, to, duration, replan } => EventKind::TransitionStart {
+                    PointEvent::SegmentSwitch { from, to } => EventKind::SegmentSwitch {
+                        obstacle: name.clone(),
+                        from,
+                        to,
+                    },
+                    PointEvent::TransitionStart {
+                        from,
+                        to,
+                        duration,
+                        replan,
+                    } => EventKind::TransitionStart {
                         obstacle: name.clone(),
                         from,
                         to,
                         duration,
                         replan,
                     },
-                    PointEvent::TransitionEnd { segment } => EventKind::TransitionEnd { obstacle: name.clone(), segment },
+                    PointEvent::TransitionEnd { segment } => EventKind::TransitionEnd {
+                        obstacle: name.clone(),
+                        segment,
+                    },
                 };
                 self.events.push(Event { t, kind });
             }
             if rising {
-                self.events.push(Event { t, kind: EventKind::Chattering { obstacle: name.clone(), switches } });
+                self.events.push(Event {
+                    t,
+                    kind: EventKind::Chattering {
+                        obstacle: name.clone(),
+                        switches,
+                    },
+                });
                 match dep.on_chattering {
                     ChatteringPolicy::Stop => {
                         if !self.stopped {
                             self.stopped = true;
                             self.events.push(Event {
                                 t,
-                                kind: EventKind::Stop { reason: format!("chattering control point ({name})") },
+                                kind: EventKind::Stop {
+                                    reason: format!("chattering control point ({name})"),
+                                },
                             });
                         }
                     }
                     ChatteringPolicy::Lock => self.events.push(Event {
                         t,
-                        kind: EventKind::Lock { obstacle: name.clone(), segment: lock_segment, until: t + dep.lock_time },
+                        kind: EventKind::Lock {
+                            obstacle: name.clone(),
+                            segment: lock_segment,
+                            until: t + dep.lock_time,
+                        },
                     }),
                 }
             }
@@ -692,15 +776,17 @@ impl World {
         // Pinned points.
         if cfg.selection == Selection::Pinned {
             for k in 0..cfg.pinned.len() {
-                self.trackers.entry(Key::Pinned(k)).or_insert_with(|| Tracker {
-                    mover: MovingPoint::new(SkeletonPoint { segment: 0, t: 0.0 }),
-                    owner: None,
-                    prev_distance: None,
-                    too_slow: false,
-                    counter: SwitchCounter::default(),
-                    chattering: false,
-                    lock: None,
-                });
+                self.trackers
+                    .entry(Key::Pinned(k))
+                    .or_insert_with(|| Tracker {
+                        mover: MovingPoint::new(SkeletonPoint { segment: 0, t: 0.0 }),
+                        owner: None,
+                        prev_distance: None,
+                        too_slow: false,
+                        counter: SwitchCounter::default(),
+                        chattering: false,
+                        lock: None,
+                    });
             }
         }
         // 6. active points where they are
@@ -715,10 +801,21 @@ impl World {
             };
             let (dh, motion, radius) = if let Key::Pinned(k) = key {
                 let Some(p) = cfg.pinned.get(k) else { continue };
-                (*p, avoidance_motion_zero(), self.robot.joints[p.link - 1].radius[0])
+                (
+                    *p,
+                    avoidance_motion_zero(),
+                    self.robot.joints[p.link - 1].radius[0],
+                )
             } else {
                 let pt = tr.mover.point();
-                let (dh, m) = dh_motion(&self.robot, &self.frames, &self.skeleton, pt, tr.mover.rate(), tr.mover.accel())?;
+                let (dh, m) = dh_motion(
+                    &self.robot,
+                    &self.frames,
+                    &self.skeleton,
+                    pt,
+                    tr.mover.rate(),
+                    tr.mover.accel(),
+                )?;
                 let seg = &self.skeleton.segments[pt.segment];
                 (dh, m, Skeleton::radius_at(seg, pt.t))
             };
@@ -729,7 +826,11 @@ impl World {
                     let (a, b) = self.skeleton.endpoints(&self.skeleton.segments[other]);
                     let ab = b - a;
                     let l2 = ab.length_squared();
-                    let u = if l2 > 0.0 { ((position - a).dot(ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
+                    let u = if l2 > 0.0 {
+                        ((position - a).dot(ab) / l2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
                     let c = a + ab * u;
                     let r2 = Skeleton::radius_at(&self.skeleton.segments[other], u);
                     let v = c - position;
@@ -753,8 +854,17 @@ impl World {
             };
             let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
             let effective = dist - margin;
-            let ap = ActivePoint { dh, motion, normal, distance: effective };
-            let rep = if torque { ap.repulsion(&cfg) * cfg.torque.force_gain } else { ap.repulsion(&cfg) };
+            let ap = ActivePoint {
+                dh,
+                motion,
+                normal,
+                distance: effective,
+            };
+            let rep = if torque {
+                ap.repulsion(&cfg) * cfg.torque.force_gain
+            } else {
+                ap.repulsion(&cfg)
+            };
             let name = match (&key, owner) {
                 (Key::Pinned(k), None) => format!("pinned:{k}"),
                 (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
@@ -762,7 +872,9 @@ impl World {
             };
             // Time to collision against the remaining transition time.
             let remaining = tr.mover.remaining();
-            let ttc = tr.prev_distance.map_or(f64::INFINITY, |prev| time_to_collision(effective, (prev - effective) / dt));
+            let ttc = tr.prev_distance.map_or(f64::INFINITY, |prev| {
+                time_to_collision(effective, (prev - effective) / dt)
+            });
             min_ttc = min_ttc.min(ttc);
             let too_slow = remaining > 0.0 && ttc < remaining;
             let rising = too_slow && !tr.too_slow;
@@ -771,10 +883,21 @@ impl World {
                 trm.too_slow = too_slow;
             }
             if rising {
-                self.push(EventKind::TransitionTooSlow { obstacle: name.clone(), time_to_collision: ttc, remaining });
+                self.push(EventKind::TransitionTooSlow {
+                    obstacle: name.clone(),
+                    time_to_collision: ttc,
+                    remaining,
+                });
             }
             let target = tr.mover.transition().and_then(|x| {
-                DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.target().segment, x.target().t).ok()
+                DhPoint::from_skeleton(
+                    &self.robot,
+                    &self.frames,
+                    &self.skeleton,
+                    x.target().segment,
+                    x.target().t,
+                )
+                .ok()
             });
             if dist.is_finite() {
                 active.push(ap);
@@ -797,9 +920,35 @@ impl World {
         // 7. control and integration
         let task = self.task_reference();
         let cmd: Command = match cfg.mode {
-            Mode::Velocity => avoidance::velocity_control(&self.robot, &self.frames, &self.q, &active, &task, &cfg, dt)?,
-            Mode::Torque => avoidance::torque_control(&self.robot, &self.frames, &self.q, &self.qdot, &active, &task, &cfg, dt)?,
-            Mode::Clik2 => avoidance::clik2_control(&self.robot, &self.frames, &self.q, &self.qdot, &active, &task, &cfg, dt)?,
+            Mode::Velocity => avoidance::velocity_control(
+                &self.robot,
+                &self.frames,
+                &self.q,
+                &active,
+                &task,
+                &cfg,
+                dt,
+            )?,
+            Mode::Torque => avoidance::torque_control(
+                &self.robot,
+                &self.frames,
+                &self.q,
+                &self.qdot,
+                &active,
+                &task,
+                &cfg,
+                dt,
+            )?,
+            Mode::Clik2 => avoidance::clik2_control(
+                &self.robot,
+                &self.frames,
+                &self.q,
+                &self.qdot,
+                &active,
+                &task,
+                &cfg,
+                dt,
+            )?,
         };
         self.step_t = t;
         self.step_q.clone_from(&self.q);
@@ -823,7 +972,10 @@ impl World {
         for o in &self.obstacles {
             let off = o.offset(t);
             for p in &o.parts {
-                obstacles.push(Obstacle { id, shape: p.translated(off) });
+                obstacles.push(Obstacle {
+                    id,
+                    shape: p.translated(off),
+                });
                 id += 1;
             }
         }
@@ -839,7 +991,8 @@ impl World {
             if *owner != o {
                 continue;
             }
-            let d = distance(&me, &ob.shape).map_err(|e| FieldError::new("scene", e.to_string()))?;
+            let d =
+                distance(&me, &ob.shape).map_err(|e| FieldError::new("scene", e.to_string()))?;
             if best.is_none_or(|b| d.distance < b.0) {
                 best = Some((d.distance, d.normal, d.point_b));
             }
@@ -879,7 +1032,11 @@ impl World {
                     ShapeSpec::Primitive(p) => vec![p.clone()],
                     ShapeSpec::Human(h) => h.parts(),
                 };
-                ObstacleStateOut { id: o.spec.id.clone(), shape, parts }
+                ObstacleStateOut {
+                    id: o.spec.id.clone(),
+                    shape,
+                    parts,
+                }
             })
             .collect();
         WorldState {
@@ -892,7 +1049,12 @@ impl World {
                 segments: sk
                     .segments
                     .iter()
-                    .map(|s| SegmentState { from: s.from, to: s.to, link: s.link, radius: s.radius })
+                    .map(|s| SegmentState {
+                        from: s.from,
+                        to: s.to,
+                        link: s.link,
+                        radius: s.radius,
+                    })
                     .collect(),
             },
             obstacles,
@@ -901,7 +1063,10 @@ impl World {
                 .obstacles
                 .iter()
                 .filter(|o| o.margin > 0.0)
-                .map(|o| Uncertainty { obstacle: o.spec.id.clone(), radius: o.margin })
+                .map(|o| Uncertainty {
+                    obstacle: o.spec.id.clone(),
+                    radius: o.margin,
+                })
                 .collect(),
             events: self.events.get(cursor..).unwrap_or(&[]).to_vec(),
             time_to_collision: self.time_to_collision,
@@ -968,7 +1133,15 @@ impl World {
         // Trackers refer to obstacles by index: renumber.
         let old = std::mem::take(&mut self.trackers);
         for (key, mut tr) in old {
-            let shift = |o: usize| if o > k { Some(o - 1) } else if o == k { None } else { Some(o) };
+            let shift = |o: usize| {
+                if o > k {
+                    Some(o - 1)
+                } else if o == k {
+                    None
+                } else {
+                    Some(o)
+                }
+            };
             let new_key = match key {
                 Key::Obstacle(o) => shift(o).map(Key::Obstacle),
                 Key::Pair(o, s) => shift(o).map(|o| Key::Pair(o, s)),
@@ -979,7 +1152,19 @@ impl World {
                 self.trackers.insert(nk, tr);
             }
         }
-        self.risky = self.risky.iter().filter_map(|&o| if o > k { Some(o - 1) } else if o == k { None } else { Some(o) }).collect();
+        self.risky = self
+            .risky
+            .iter()
+            .filter_map(|&o| {
+                if o > k {
+                    Some(o - 1)
+                } else if o == k {
+                    None
+                } else {
+                    Some(o)
+                }
+            })
+            .collect();
         self.scene_dirty = true;
         Ok(())
     }
@@ -1016,7 +1201,11 @@ impl World {
     ///
     /// # Errors
     /// An unknown id or a non-finite position; the world is unchanged.
-    pub fn set_obstacle_position(&mut self, id: &str, position: DVec3) -> Result<(), ScenarioError> {
+    pub fn set_obstacle_position(
+        &mut self,
+        id: &str,
+        position: DVec3,
+    ) -> Result<(), ScenarioError> {
         let k = self.index_of(id)?;
         crate::error::finite3("position", position)?;
         let o = &self.obstacles[k];
@@ -1031,7 +1220,9 @@ impl World {
     /// unchanged.
     pub fn set_controller(&mut self, config: ControllerConfig) -> Result<(), ScenarioError> {
         validate_controller(&config, &self.robot).map_err(|e| e.within("controller"))?;
-        if config.selection != self.scenario.controller.selection || config.pinned != self.scenario.controller.pinned {
+        if config.selection != self.scenario.controller.selection
+            || config.pinned != self.scenario.controller.pinned
+        {
             self.trackers.clear();
         }
         self.scenario.controller = config;
@@ -1043,7 +1234,10 @@ impl World {
     ///
     /// # Errors
     /// Unknown fields or wrong types, with their path under `controller`.
-    pub fn merged_controller(&self, partial: &serde_json::Value) -> Result<ControllerConfig, ScenarioError> {
+    pub fn merged_controller(
+        &self,
+        partial: &serde_json::Value,
+    ) -> Result<ControllerConfig, ScenarioError> {
         let mut base = serde_json::to_value(&self.scenario.controller)
             .map_err(|e| FieldError::new("controller", e.to_string()))?;
         merge_json(&mut base, partial);
@@ -1159,11 +1353,65 @@ pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
             samples.push(world.sample());
         }
     }
-    Ok(Trace { samples, events: world.events })
+    Ok(Trace {
+        samples,
+        events: world.events,
+    })
 }
 
 /// Orientation of the end effector as a quaternion (used by examples).
 #[must_use]
 pub fn end_effector_rotation(frames: &Frames) -> DQuat {
     DQuat::from_mat3(&frames.end_effector().matrix3)
+}
+
+/// The control-step benchmark's world: `lwr4` following a circular
+/// end-effector trajectory among `obstacles` static spheres (radius 5 cm)
+/// spread pseudo-randomly (seeded) over a 1.6 × 1.6 × 1.2 m box around it,
+/// at 1 kHz. Shared by the criterion bench and the wasm export so both time
+/// the same work.
+///
+/// # Errors
+/// None in practice (the scenario is valid by construction).
+pub fn control_step_workload(obstacles: usize) -> Result<World, ScenarioError> {
+    use crate::distance::SphereSpec;
+    let mut rng = crate::rng::Rng::new(11);
+    let obstacles = (0..obstacles)
+        .map(|k| ObstacleSpec {
+            id: format!("o{k}"),
+            shape: ShapeSpec::Primitive(PrimitiveSpec::Sphere(SphereSpec {
+                center: [
+                    rng.range(-0.8, 0.8),
+                    rng.range(-0.8, 0.8),
+                    rng.range(0.0, 1.2),
+                ],
+                radius: 0.05,
+            })),
+            motion: None,
+        })
+        .collect();
+    let points: Vec<[f64; 3]> = (0..=8)
+        .map(|k| {
+            let a = std::f64::consts::TAU * f64::from(k) / 8.0;
+            [0.45 + 0.1 * a.cos(), 0.1 * a.sin(), 0.6]
+        })
+        .collect();
+    let times = (0..=8).map(|k| 0.5 * f64::from(k)).collect();
+    let scenario = Scenario {
+        robot: crate::scenario::RobotRef::Preset("lwr4".to_owned()),
+        q0: Some(vec![0.0, 0.6, 0.0, -1.2, 0.0, 0.6, 0.0]),
+        obstacles,
+        task: TaskSpec::Trajectory {
+            points,
+            times,
+            chain: 0,
+        },
+        controller: ControllerConfig::default(),
+        sensing: crate::scenario::SensingConfig::default(),
+        dependability: crate::dependability::DependabilityConfig::default(),
+        dt: 0.001,
+        duration: 4.0,
+        sample_every: 1,
+    };
+    World::new(scenario)
 }
