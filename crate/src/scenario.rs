@@ -786,8 +786,8 @@ pub struct Sample {
     pub t: f64,
     /// Joint values.
     pub q: Vec<f64>,
-    /// Smallest clearance between the arm and any obstacle within the
-    /// influence distance (m; `null` when none is).
+    /// Smallest clearance between the arm and any obstacle (or between
+    /// non-adjacent links) within reach (m; `null` when none is).
     pub min_clearance: Option<f64>,
     /// Active control points.
     pub control_points: Vec<TracePoint>,

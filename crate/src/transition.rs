@@ -335,6 +335,16 @@ impl Transition {
         self.legs.iter().map(|l| l.segment).collect()
     }
 
+    /// Moves the end of the last leg to fraction `t` of the same segment
+    /// (the selected point drifted along its segment): the point moves by
+    /// at most the drift, without restarting the legs' timing.
+    pub fn retarget(&mut self, t: f64) {
+        if let Some(last) = self.legs.last_mut() {
+            last.t1 = t.clamp(0.0, 1.0);
+            self.target.t = last.t1;
+        }
+    }
+
     /// Moves time on by `dt` seconds.
     pub fn advance(&mut self, dt: f64) {
         if dt.is_finite() && dt > 0.0 {
@@ -532,8 +542,10 @@ impl MovingPoint {
     ///
     /// A move of at most `jump_threshold` along the skeleton is followed
     /// directly (the rate is the finite difference); a longer one starts a
-    /// transition; a new selection during a transition farther than the
-    /// threshold from its target re-plans from the current point and rate.
+    /// transition. During a transition, a selection that drifts along the
+    /// target's segment moves the end of the last leg; one on another
+    /// segment, farther than the threshold from the target, re-plans from
+    /// the current point and rate.
     ///
     /// # Errors
     /// `transitionTime: must be > 0`, or segments that are not connected.
@@ -554,7 +566,11 @@ impl MovingPoint {
             });
         }
         self.selected = selected;
-        let replan = match &self.transition {
+        let replan = match &mut self.transition {
+            Some(tr) if tr.target().segment == selected.segment => {
+                tr.retarget(selected.t);
+                false
+            }
             Some(tr) => route_length(skeleton, tr.target(), selected) > jump,
             None => route_length(skeleton, self.point, selected) > jump,
         };

@@ -195,7 +195,8 @@ pub struct WorldState {
     pub q: Vec<f64>,
     /// Joint velocities.
     pub qdot: Vec<f64>,
-    /// Smallest clearance to any obstacle within reach (m), true poses.
+    /// Smallest clearance (m) between the arm and any obstacle (true poses)
+    /// or between non-adjacent links, among pairs within reach.
     pub min_clearance: Option<f64>,
     /// The skeleton at `q`.
     pub skeleton: SkeletonState,
@@ -244,6 +245,7 @@ pub struct World {
     risky: BTreeSet<usize>,
     hold: DVec3,
     stopped: bool,
+    stopped_until: f64,
     events: Vec<Event>,
     points: Vec<ControlPointState>,
     min_clearance: Option<f64>,
@@ -267,8 +269,12 @@ impl World {
     /// use skeleton_avoidance::scenario;
     /// use skeleton_avoidance::world::World;
     /// let mut world = World::new(scenario::example("lwr4-elbow")?)?;
-    /// world.step(0.001);
-    /// assert!(world.state().min_clearance.unwrap() > 0.0);
+    /// for _ in 0..1000 {
+    ///     world.step(0.001);
+    /// }
+    /// let state = world.state();
+    /// assert!((state.t - 1.0).abs() < 1e-9);
+    /// assert!(state.min_clearance.unwrap() > 0.0);
     /// # Ok::<(), skeleton_avoidance::scenario::ScenarioError>(())
     /// ```
     pub fn new(scenario: Scenario) -> Result<Self, ScenarioError> {
@@ -311,6 +317,7 @@ impl World {
             risky: BTreeSet::new(),
             hold,
             stopped: false,
+            stopped_until: 0.0,
             events: Vec::new(),
             points: Vec::new(),
             min_clearance: None,
@@ -513,17 +520,9 @@ impl World {
                 .clone_scene_at(t)
                 .query(&self.skeleton, &options, |i, j| self.adjacency[i][j])
                 .map_err(|e| FieldError::new("scene", e.to_string()))?;
-            exact
-                .iter()
-                .filter(|p| matches!(p.target, Target::Obstacle { .. }))
-                .map(|p| p.distance)
-                .reduce(f64::min)
+            exact.iter().map(|p| p.distance).reduce(f64::min)
         } else {
-            pairs
-                .iter()
-                .filter(|p| matches!(p.target, Target::Obstacle { .. }))
-                .map(|p| p.distance)
-                .reduce(f64::min)
+            pairs.iter().map(|p| p.distance).reduce(f64::min)
         };
         // 4. selection
         let mut selected: BTreeMap<Key, (SkeletonPoint, Option<usize>)> = BTreeMap::new();
@@ -748,6 +747,7 @@ impl World {
                 });
                 match dep.on_chattering {
                     ChatteringPolicy::Stop => {
+                        self.stopped_until = t + dep.lock_time;
                         if !self.stopped {
                             self.stopped = true;
                             self.events.push(Event {
@@ -769,7 +769,10 @@ impl World {
                 }
             }
         }
-        if self.stopped && !self.trackers.values().any(|tr| tr.chattering) {
+        if self.stopped
+            && t >= self.stopped_until
+            && !self.trackers.values().any(|tr| tr.chattering)
+        {
             self.stopped = false;
             self.push(EventKind::Resume);
         }
@@ -1294,13 +1297,13 @@ fn link_adjacency(robot: &Robot, skeleton: &Skeleton) -> Vec<Vec<bool>> {
         }
     }
     let mut adj = direct.clone();
-    for i in 0..n {
-        adj[i][i] = true;
-        for k in 0..n {
-            if direct[i][k] {
-                for j in 0..n {
-                    if direct[k][j] {
-                        adj[i][j] = true;
+    for (i, row) in adj.iter_mut().enumerate() {
+        row[i] = true;
+        for (k, via) in direct[i].iter().enumerate() {
+            if *via {
+                for (j, hop) in direct[k].iter().enumerate() {
+                    if *hop {
+                        row[j] = true;
                     }
                 }
             }
