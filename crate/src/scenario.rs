@@ -145,7 +145,8 @@ impl HumanSpec {
         use crate::distance::{CapsuleSpec, SphereSpec};
         let h = self.height;
         let base = DVec3::from_array(self.position);
-        let fwd = DVec3::new(self.heading.cos(), self.heading.sin(), 0.0);
+        let (s, c) = crate::math::sin_cos(self.heading);
+        let fwd = DVec3::new(c, s, 0.0);
         let side = DVec3::new(-fwd.y, fwd.x, 0.0);
         let hip = base + DVec3::Z * (0.53 * h);
         let chest = base + DVec3::Z * (0.78 * h);
@@ -153,7 +154,8 @@ impl HumanSpec {
         let shoulder_half = 0.12 * h;
         let arm_len = 0.36 * h;
         let angle = self.reach.clamp(0.0, 1.0) * std::f64::consts::FRAC_PI_2;
-        let arm_dir = fwd * angle.sin() - DVec3::Z * angle.cos();
+        let (s, c) = crate::math::sin_cos(angle);
+        let arm_dir = fwd * s - DVec3::Z * c;
         let cap = |a: DVec3, b: DVec3, r: f64| {
             PrimitiveSpec::Capsule(CapsuleSpec {
                 a: a.to_array(),
@@ -448,8 +450,9 @@ impl Motion {
             } => {
                 let axis = DVec3::from_array(*axis).normalize_or_zero();
                 let r = reference - DVec3::from_array(*center);
-                let angle = std::f64::consts::TAU * t / period;
-                DQuat::from_axis_angle(axis, angle) * r - r
+                // Rodrigues' rotation of r about the unit axis.
+                let (s, c) = crate::math::sin_cos(std::f64::consts::TAU * t / period);
+                r * c + axis.cross(r) * s + axis * axis.dot(r) * (1.0 - c) - r
             }
         }
     }

@@ -1396,7 +1396,11 @@ pub fn control_step_workload(obstacles: usize) -> Result<World, ScenarioError> {
     let points: Vec<[f64; 3]> = (0..=8)
         .map(|k| {
             let a = std::f64::consts::TAU * f64::from(k) / 8.0;
-            [0.45 + 0.1 * a.cos(), 0.1 * a.sin(), 0.6]
+            [
+                0.45 + 0.1 * crate::math::cos(a),
+                0.1 * crate::math::sin(a),
+                0.6,
+            ]
         })
         .collect();
     let times = (0..=8).map(|k| 0.5 * f64::from(k)).collect();

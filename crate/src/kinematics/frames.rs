@@ -88,13 +88,13 @@ impl Frames {
                 JointType::Revolute => (joint.theta + q[i], joint.d),
                 JointType::Prismatic => (joint.theta, joint.d + q[i]),
             };
-            let (st, ct) = theta.sin_cos();
+            let (st, ct) = crate::math::sin_cos(theta);
             if self.alpha_memo.len() <= i {
                 self.alpha_memo.push((f64::NAN, 0.0, 0.0));
             }
             let memo = &mut self.alpha_memo[i];
             if memo.0.to_bits() != joint.alpha.to_bits() {
-                let (s, c) = joint.alpha.sin_cos();
+                let (s, c) = crate::math::sin_cos(joint.alpha);
                 *memo = (joint.alpha, s, c);
             }
             let (sa, ca) = (memo.1, memo.2);
