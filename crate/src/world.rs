@@ -990,10 +990,10 @@ impl World {
     fn point_distance(&self, o: usize, p: DVec3) -> Result<(f64, DVec3, DVec3), FieldError> {
         let me = Primitive::Point(p);
         let mut best: Option<(f64, DVec3, DVec3)> = None;
-        for (ob, owner) in self.scene.obstacles().iter().zip(&self.owners) {
-            if *owner != o {
-                continue;
-            }
+        // `owners` is sorted: obstacle o's parts are one contiguous run.
+        let start = self.owners.partition_point(|&x| x < o);
+        let end = self.owners.partition_point(|&x| x <= o);
+        for ob in self.scene.obstacles().get(start..end).unwrap_or(&[]) {
             let d =
                 distance(&me, &ob.shape).map_err(|e| FieldError::new("scene", e.to_string()))?;
             if best.is_none_or(|b| d.distance < b.0) {
