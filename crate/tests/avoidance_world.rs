@@ -568,8 +568,9 @@ fn events_can_be_read_from_a_cursor() {
 }
 
 /// 10⁶ control steps (1000 s at 1 kHz) of the elbow scenario with the sphere
-/// circling the arm: no NaN, and the end effector does not drift from its
-/// goal. Slow in debug builds: `cargo test --release -- --ignored`.
+/// circling the arm (it brushes past the hand, which gives way): no NaN, and
+/// whenever the sphere is out of reach the end effector is back on its goal.
+/// Slow in debug builds: `cargo test --release -- --ignored`.
 #[test]
 #[ignore = "long run: cargo test --release -- --ignored"]
 fn a_million_steps_without_nan_or_drift() {
@@ -581,15 +582,56 @@ fn a_million_steps_without_nan_or_drift() {
     });
     let mut w = World::new(s).unwrap();
     let robot = w.robot().clone();
+    let mut free_checks = 0;
+    let mut last_active = 0;
     for k in 0..1_000_000u32 {
         w.step(0.001);
-        if k % 10_000 == 0 {
+        if !w.control_points().is_empty() {
+            last_active = k;
+        }
+        if k % 1000 == 0 {
             assert!(w.q().iter().all(|x| x.is_finite()), "NaN at step {k}");
-            let ee = robot.forward(w.q()).unwrap().end_effector().translation;
-            assert!(
-                (ee - elbow_goal()).length() < 0.05,
-                "drift at step {k}: {ee}"
-            );
+            // Once the sphere has been out of reach for a second, the hand
+            // is back on its goal: errors do not accumulate over the run.
+            if k - last_active > 1000 {
+                let ee = robot.forward(w.q()).unwrap().end_effector().translation;
+                assert!(
+                    (ee - elbow_goal()).length() < EE_TOLERANCE,
+                    "drift at step {k}: {ee}"
+                );
+                free_checks += 1;
+            }
         }
     }
+    assert!(
+        free_checks > 100,
+        "the sphere must leave the arm's reach regularly"
+    );
+}
+
+#[test]
+fn dual_arm_links_repel_each_other() {
+    let s = scenario::example("dual-arm-self").unwrap();
+    let trace = simulate(&s).unwrap();
+    let selfs = trace
+        .samples
+        .iter()
+        .flat_map(|x| &x.control_points)
+        .filter(|c| c.obstacle.starts_with("self:"))
+        .count();
+    assert!(selfs > 0, "the arms come within the influence distance");
+    assert!(
+        trace
+            .samples
+            .iter()
+            .filter_map(|x| x.min_clearance)
+            .all(|c| c > 0.0)
+    );
+    let robot = s.build_robot().unwrap();
+    let f = robot.forward(&trace.samples.last().unwrap().q).unwrap();
+    let goal = DVec3::new(0.12, -0.45, 0.95);
+    assert!(
+        (f.end_effectors[1].translation - goal).length() < 0.01,
+        "the left hand reaches its goal"
+    );
 }
