@@ -56,3 +56,18 @@ console.log(`${'workload'.padEnd(26)} ${'native ns'.padStart(10)} ${'wasm ns'.pa
 for (const r of rows) {
   console.log(`${r.id.padEnd(26)} ${r.native.toFixed(0).padStart(10)} ${r.wasm.toFixed(0).padStart(10)} ${(r.wasm / r.native).toFixed(2).padStart(12)}  ${r.goal}`);
 }
+
+// One full control step of lwr4 among N static spheres (issue 5): FK,
+// skeleton, scene query, control points, transitions, Jacobians, controller.
+const stepRows = [];
+for (const [n, goal, batch] of [[10, 10e3, 2000], [100, 50e3, 1000], [1000, 330e3, 200]]) {
+  const id = `control_step/lwr4/${n}`;
+  const native = nativeMedian(id);
+  const wasm = wasmMedian((k) => sa.benchControlStep(k, n), { batch, samples: 21 });
+  stepRows.push({ id, native, wasm, goal: `native ≤ ${(goal / 1000).toFixed(0)} µs, wasm/native ≤ 1.5` });
+}
+console.log('\n=== full control step (lwr4, N obstacles, 1 kHz), median per step');
+console.log(`${'workload'.padEnd(26)} ${'native ns'.padStart(10)} ${'wasm ns'.padStart(10)} ${'wasm/native'.padStart(12)}  goal`);
+for (const r of stepRows) {
+  console.log(`${r.id.padEnd(26)} ${r.native.toFixed(0).padStart(10)} ${r.wasm.toFixed(0).padStart(10)} ${(r.wasm / r.native).toFixed(2).padStart(12)}  ${r.goal}`);
+}

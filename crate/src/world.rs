@@ -48,6 +48,10 @@ use crate::scenario::{
 use crate::skeleton::Skeleton;
 use crate::transition::{MovingPoint, PointEvent, SkeletonPoint, TransitionSettings, dh_motion};
 
+/// Events a live [`World`] keeps (the oldest half is dropped beyond this;
+/// [`simulate`] keeps every event).
+pub const MAX_EVENTS: usize = 20_000;
+
 /// Radius within which a pick ray catches points and segments (m).
 pub const PICK_RADIUS: f64 = 0.02;
 
@@ -247,6 +251,8 @@ pub struct World {
     stopped: bool,
     stopped_until: f64,
     events: Vec<Event>,
+    events_dropped: usize,
+    keep_all_events: bool,
     points: Vec<ControlPointState>,
     min_clearance: Option<f64>,
     time_to_collision: Option<f64>,
@@ -319,6 +325,8 @@ impl World {
             stopped: false,
             stopped_until: 0.0,
             events: Vec::new(),
+            events_dropped: 0,
+            keep_all_events: false,
             points: Vec::new(),
             min_clearance: None,
             time_to_collision: None,
@@ -384,10 +392,17 @@ impl World {
         out
     }
 
-    /// Every event so far.
+    /// The events kept (every event so far, up to [`MAX_EVENTS`]).
     #[must_use]
     pub fn events(&self) -> &[Event] {
         &self.events
+    }
+
+    /// Number of events since the start (or the last reset), including
+    /// those no longer kept: the cursor for [`World::state_since`].
+    #[must_use]
+    pub fn event_count(&self) -> usize {
+        self.events_dropped + self.events.len()
     }
 
     /// Whether the monitor is stopping the robot.
@@ -485,6 +500,11 @@ impl World {
         if self.step_inner(dt).is_err() {
             // Only reachable through a bug: keep the world as it is, at rest.
             self.qdot.iter_mut().for_each(|v| *v = 0.0);
+        }
+        if !self.keep_all_events && self.events.len() > MAX_EVENTS {
+            let drop = self.events.len() - MAX_EVENTS / 2;
+            self.events.drain(..drop);
+            self.events_dropped += drop;
         }
     }
 
@@ -1015,14 +1035,15 @@ impl World {
         best.map(|b| b.1)
     }
 
-    /// A snapshot of everything a viewer needs, with every event so far.
+    /// A snapshot of everything a viewer needs, with every event kept (a
+    /// viewer polling each frame should use [`World::state_since`]).
     #[must_use]
     pub fn state(&self) -> WorldState {
         self.state_since(0)
     }
 
-    /// [`World::state`] with only the events from index `cursor` on (the
-    /// number of events already read).
+    /// [`World::state`] with only the events from number `cursor` on (the
+    /// [`World::event_count`] when the caller last read them).
     #[must_use]
     pub fn state_since(&self, cursor: usize) -> WorldState {
         let sk = &self.skeleton;
@@ -1071,7 +1092,11 @@ impl World {
                     radius: o.margin,
                 })
                 .collect(),
-            events: self.events.get(cursor..).unwrap_or(&[]).to_vec(),
+            events: self
+                .events
+                .get(cursor.saturating_sub(self.events_dropped)..)
+                .unwrap_or(&[])
+                .to_vec(),
             time_to_collision: self.time_to_collision,
             stopped: self.stopped,
         }
@@ -1347,6 +1372,7 @@ fn merge_json(base: &mut serde_json::Value, patch: &serde_json::Value) {
 /// ```
 pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
     let mut world = World::new(scenario.clone())?;
+    world.keep_all_events = true;
     let steps = (scenario.duration / scenario.dt).round() as u64;
     let every = scenario.sample_every.max(1) as u64;
     let mut samples = Vec::new();

@@ -635,3 +635,20 @@ fn dual_arm_links_repel_each_other() {
         "the left hand reaches its goal"
     );
 }
+
+#[test]
+fn a_live_world_keeps_a_bounded_event_log_with_a_stable_cursor() {
+    let mut w = World::new(scenario::example("chattering").unwrap()).unwrap();
+    let mut cursor = 0;
+    let mut seen = 0;
+    for _ in 0..30 {
+        for _ in 0..1000 {
+            w.step(0.001);
+        }
+        let st = w.state_since(cursor);
+        seen += st.events.len();
+        cursor = w.event_count();
+        assert!(w.events().len() <= skeleton_avoidance::world::MAX_EVENTS);
+    }
+    assert_eq!(seen, w.event_count(), "every event read exactly once");
+}

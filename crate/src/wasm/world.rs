@@ -169,12 +169,13 @@ impl WorldHandle {
     #[wasm_bindgen(getter, js_name = eventCount)]
     #[must_use]
     pub fn event_count(&self) -> usize {
-        self.inner.events().len()
+        self.inner.event_count()
     }
 
     /// `{ t, q, qdot, minClearance, skeleton, obstacles, controlPoints,
-    /// uncertainty, events, timeToCollision?, stopped }`; `events` holds every
-    /// event, or those from index `since` on.
+    /// uncertainty, events, timeToCollision?, stopped }`; `events` holds the
+    /// events from number `since` on (pass the last `eventCount` when polling
+    /// every frame), or all those kept (the latest 10000 to 20000).
     ///
     /// # Errors
     /// Only if the state cannot be converted (a bug).
