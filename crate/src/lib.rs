@@ -22,7 +22,7 @@
 //! | [`dependability`] | sensing errors, margin propagation, switch risk, chattering (stop or lock), time to collision, events | §IV |
 //! | [`scenario`] | scenario and trace types, validation with JSON paths, the shipped examples | — |
 //! | [`world`] | a live simulation: stepping, obstacle edits, picking, `simulate` | — |
-//! | [`math`] | sin, cos, ln with the same bits natively and in wasm (deterministic traces) | — |
+//! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
 //! | [`distance`] | primitives, closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
 //! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
 //! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground | — |
