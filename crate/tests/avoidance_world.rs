@@ -652,3 +652,91 @@ fn a_live_world_keeps_a_bounded_event_log_with_a_stable_cursor() {
     }
     assert_eq!(seen, w.event_count(), "every event read exactly once");
 }
+
+#[test]
+fn avoidance_fades_in_without_a_jump_in_joint_velocity() {
+    let mut s = scenario::example("lwr4-elbow").unwrap();
+    s.sample_every = 1;
+    let trace = simulate(&s).unwrap();
+    let dt = s.dt;
+    let qd: Vec<Vec<f64>> = trace
+        .samples
+        .windows(2)
+        .map(|w| {
+            w[1].q
+                .iter()
+                .zip(&w[0].q)
+                .map(|(a, b)| (a - b) / dt)
+                .collect()
+        })
+        .collect();
+    let entered = trace
+        .samples
+        .iter()
+        .position(|x| !x.control_points.is_empty())
+        .expect("the sphere comes within reach");
+    let mut largest: f64 = 0.0;
+    for w in qd.windows(2) {
+        for (a, b) in w[1].iter().zip(&w[0]) {
+            largest = largest.max((a - b).abs() / dt);
+        }
+    }
+    // Joint accelerations stay moderate through the activation (no step in
+    // the commanded velocity when the first control point appears).
+    assert!(entered > 0);
+    assert!(
+        largest < 20.0,
+        "joint acceleration reached {largest} rad/s²"
+    );
+}
+
+#[test]
+fn plane_tilting_through_parallel_with_a_link_moves_the_control_point_continuously() {
+    // planar3 stretched along x in the plane z = 0; a plane below it tilts
+    // about the y axis through the position where it is parallel to the arm.
+    let mut s = planar(vec![0.0, 0.0, 0.0]);
+    s.controller.max_repulsion_speed = 0.0;
+    let plane = |angle: f64| {
+        let n = DVec3::new(angle.sin(), 0.0, angle.cos());
+        // Through (0.45, 0, -0.15): n · x + offset = 0.
+        let offset = -n.dot(DVec3::new(0.45, 0.0, -0.15));
+        ShapeSpec::Primitive(PrimitiveSpec::Plane(
+            skeleton_avoidance::distance::PlaneSpec {
+                normal: n.to_array(),
+                offset,
+            },
+        ))
+    };
+    s.obstacles.push(ObstacleSpec {
+        id: "floor".into(),
+        shape: plane(-0.3),
+        motion: None,
+    });
+    let mut world = World::new(s).unwrap();
+    let mut prev: Option<DVec3> = None;
+    let mut largest: f64 = 0.0;
+    let mut ends = Vec::new();
+    for k in 0..=1000 {
+        let angle = -0.3 + 0.6 * (f64::from(k) / 1000.0);
+        world.set_obstacle_shape("floor", plane(angle)).unwrap();
+        world.step(0.001);
+        let cps = world.control_points();
+        assert_eq!(cps.len(), 1, "step {k}");
+        let p = DVec3::from_array(cps[0].position);
+        if let Some(q) = prev {
+            largest = largest.max((p - q).length());
+        }
+        if k == 0 || k == 1000 {
+            ends.push(p);
+        }
+        prev = Some(p);
+    }
+    assert!(
+        (ends[0] - ends[1]).length() > 0.5,
+        "the closest point crosses the arm"
+    );
+    assert!(
+        largest < 0.01,
+        "control point jumped by {largest} m in one step"
+    );
+}
