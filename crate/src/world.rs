@@ -25,7 +25,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 use serde::Serialize;
 
 use crate::avoidance::{
@@ -40,6 +40,7 @@ use crate::distance::{
     Obstacle, PairDistance, Primitive, PrimitiveSpec, QueryOptions, Scene, Target, distance,
 };
 use crate::error::FieldError;
+use crate::kinematics::ik::PointMotion;
 use crate::kinematics::{Frames, Robot};
 use crate::scenario::{
     ObstacleSpec, Sample, Scenario, ScenarioError, ShapeSpec, TaskSpec, Trace, TracePoint,
@@ -826,7 +827,7 @@ impl World {
                 let Some(p) = cfg.pinned.get(k) else { continue };
                 (
                     *p,
-                    avoidance_motion_zero(),
+                    PointMotion::default(),
                     self.robot.joints[p.link - 1].radius[0],
                 )
             } else {
@@ -1337,10 +1338,6 @@ fn link_adjacency(robot: &Robot, skeleton: &Skeleton) -> Vec<Vec<bool>> {
     adj
 }
 
-fn avoidance_motion_zero() -> crate::kinematics::ik::PointMotion {
-    crate::kinematics::ik::PointMotion::default()
-}
-
 fn merge_json(base: &mut serde_json::Value, patch: &serde_json::Value) {
     match (base, patch) {
         (serde_json::Value::Object(b), serde_json::Value::Object(p)) => {
@@ -1386,12 +1383,6 @@ pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
         samples,
         events: world.events,
     })
-}
-
-/// Orientation of the end effector as a quaternion (used by examples).
-#[must_use]
-pub fn end_effector_rotation(frames: &Frames) -> DQuat {
-    DQuat::from_mat3(&frames.end_effector().matrix3)
 }
 
 /// The control-step benchmark's world: `lwr4` following a circular
