@@ -36,6 +36,15 @@ pub(crate) struct LineInstance {
     pub color: [f32; 4],
 }
 
+/// A vertex of a flat-shaded triangle.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct MeshVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub color: [f32; 4],
+}
+
 /// Rings per hemisphere (from the pole to the equator, inclusive).
 const RINGS: u32 = 8;
 /// Vertices around the axis.

@@ -12,9 +12,10 @@
 //! hardware encode into an sRGB format, so a colour reads the same on both
 //! backends.
 //!
-//! Draw order: opaque solids (depth written), lines (depth tested, not
-//! written), then translucent solids sorted back to front (blended, depth
-//! tested, not written), so distance lines stay visible inside volumes.
+//! Draw order: opaque solids and opaque triangles (depth written), lines
+//! (depth tested, not written), then translucent triangles and translucent
+//! solids, each sorted back to front (blended, depth tested, not written),
+//! so distance lines stay visible inside volumes and behind a glassy plane.
 
 mod camera;
 mod geometry;
@@ -26,9 +27,9 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 pub use camera::{Camera, View};
-pub use scene::{Capsule, Grid, Line, Scene, Sphere};
+pub use scene::{Capsule, Grid, Line, Scene, Sphere, Triangle};
 
-use geometry::{LineInstance, LineVertex, SolidInstance, SolidVertex};
+use geometry::{LineInstance, LineVertex, MeshVertex, SolidInstance, SolidVertex};
 
 /// Which graphics API draws the canvas.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -178,11 +179,16 @@ pub struct Renderer {
     solid_opaque: wgpu::RenderPipeline,
     solid_blend: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
+    mesh_opaque: wgpu::RenderPipeline,
+    mesh_blend: wgpu::RenderPipeline,
     solid_template: wgpu::Buffer,
     solid_vertex_count: u32,
     line_template: wgpu::Buffer,
     solids: InstanceBuffer,
     lines: InstanceBuffer,
+    mesh: InstanceBuffer,
+    mesh_opaque_count: u32,
+    mesh_blend_count: u32,
     opaque_count: u32,
     blend_count: u32,
     line_count: u32,
@@ -362,6 +368,8 @@ impl Renderer {
         let solid_opaque = pipelines.solid(false);
         let solid_blend = pipelines.solid(true);
         let line_pipeline = pipelines.lines();
+        let mesh_opaque = pipelines.mesh(false);
+        let mesh_blend = pipelines.mesh(true);
 
         let template = geometry::capsule_template();
         let solid_template = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -384,6 +392,11 @@ impl Renderer {
             "line instances",
             std::mem::size_of::<LineInstance>(),
         );
+        let mesh = InstanceBuffer::new(
+            &device,
+            "mesh vertices",
+            std::mem::size_of::<MeshVertex>(),
+        );
         let (depth_view, msaa_view) = attachments(&device, &config, sample_count);
 
         Ok(Self {
@@ -400,11 +413,16 @@ impl Renderer {
             solid_opaque,
             solid_blend,
             line_pipeline,
+            mesh_opaque,
+            mesh_blend,
             solid_template,
             solid_vertex_count: template.len() as u32,
             line_template,
             solids,
             lines,
+            mesh,
+            mesh_opaque_count: 0,
+            mesh_blend_count: 0,
             opaque_count: 0,
             blend_count: 0,
             line_count: 0,
@@ -538,6 +556,38 @@ impl Renderer {
         self.line_count = lines.len() as u32;
         self.lines
             .upload(&self.device, &self.queue, bytemuck::cast_slice(&lines));
+
+        let finite = |t: &&scene::Triangle| {
+            t.p.iter().flatten().chain(&t.color).all(|x| x.is_finite())
+        };
+        let (opaque, mut blend): (Vec<&scene::Triangle>, Vec<&scene::Triangle>) = scene
+            .triangles
+            .iter()
+            .filter(finite)
+            .partition(|t| t.color[3] >= 1.0);
+        let centroid = |t: &scene::Triangle| {
+            (glam::Vec3::from(t.p[0]) + glam::Vec3::from(t.p[1]) + glam::Vec3::from(t.p[2]))
+                / 3.0
+        };
+        blend.sort_by(|x, y| {
+            centroid(y)
+                .distance_squared(eye)
+                .total_cmp(&centroid(x).distance_squared(eye))
+        });
+        self.mesh_opaque_count = 3 * opaque.len() as u32;
+        self.mesh_blend_count = 3 * blend.len() as u32;
+        let mut vertices: Vec<MeshVertex> = Vec::with_capacity(3 * scene.triangles.len());
+        for t in opaque.into_iter().chain(blend) {
+            let [a, b, c] = t.p.map(glam::Vec3::from);
+            let normal = (b - a).cross(c - a).normalize_or(glam::Vec3::Z).to_array();
+            vertices.extend(t.p.iter().map(|&position| MeshVertex {
+                position,
+                normal,
+                color: t.color,
+            }));
+        }
+        self.mesh
+            .upload(&self.device, &self.queue, bytemuck::cast_slice(&vertices));
     }
 
     /// Draws the last uploaded scene and presents it.
@@ -612,11 +662,22 @@ impl Renderer {
                 pass.set_vertex_buffer(1, self.solids.buffer.slice(..));
                 pass.draw(0..self.solid_vertex_count, 0..self.opaque_count);
             }
+            if self.mesh_opaque_count > 0 {
+                pass.set_pipeline(&self.mesh_opaque);
+                pass.set_vertex_buffer(0, self.mesh.buffer.slice(..));
+                pass.draw(0..self.mesh_opaque_count, 0..1);
+            }
             if self.line_count > 0 {
                 pass.set_pipeline(&self.line_pipeline);
                 pass.set_vertex_buffer(0, self.line_template.slice(..));
                 pass.set_vertex_buffer(1, self.lines.buffer.slice(..));
                 pass.draw(0..6, 0..self.line_count);
+            }
+            if self.mesh_blend_count > 0 {
+                pass.set_pipeline(&self.mesh_blend);
+                pass.set_vertex_buffer(0, self.mesh.buffer.slice(..));
+                let start = self.mesh_opaque_count;
+                pass.draw(start..start + self.mesh_blend_count, 0..1);
             }
             if self.blend_count > 0 {
                 pass.set_pipeline(&self.solid_blend);
@@ -632,7 +693,7 @@ impl Renderer {
     }
 }
 
-/// Builds the three pipelines, which share everything but their state.
+/// Builds the pipelines, which share everything but their state.
 struct Pipelines<'a> {
     device: &'a wgpu::Device,
     layout: &'a wgpu::PipelineLayout,
@@ -662,6 +723,26 @@ impl Pipelines<'_> {
             ("vs_solid", "fs_solid"),
             &[Some(template), Some(instance)],
             Some(wgpu::Face::Back),
+            !blend,
+            blend,
+        )
+    }
+
+    fn mesh(&self, blend: bool) -> wgpu::RenderPipeline {
+        let vertex = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<MeshVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
+        };
+        self.build(
+            if blend {
+                "translucent triangles"
+            } else {
+                "opaque triangles"
+            },
+            ("vs_mesh", "fs_mesh"),
+            &[Some(vertex)],
+            None,
             !blend,
             blend,
         )

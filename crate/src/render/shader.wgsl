@@ -132,3 +132,38 @@ fn vs_line(
 fn fs_line(in: LineOut) -> @location(0) vec4<f32> {
     return vec4<f32>(encode(srgb_to_linear(in.color.rgb)), in.color.a);
 }
+
+// ---- Meshes: flat triangles lit from both sides ----
+
+struct MeshOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) normal: vec3<f32>,
+    @location(1) color: vec4<f32>,
+};
+
+@vertex
+fn vs_mesh(
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+) -> MeshOut {
+    var out: MeshOut;
+    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
+    out.normal = normal;
+    out.color = color;
+    return out;
+}
+
+@fragment
+fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
+    // Light whichever face is seen: turn the normal towards the camera.
+    var n = normalize(in.normal);
+    if dot(n, globals.to_camera.xyz) < 0.0 {
+        n = -n;
+    }
+    let key = max(dot(n, globals.key_light.xyz), 0.0);
+    let head = max(dot(n, globals.to_camera.xyz), 0.0);
+    let light = 0.35 + 0.4 * key + 0.3 * head;
+    let base = srgb_to_linear(in.color.rgb);
+    return vec4<f32>(encode(base * light), in.color.a);
+}

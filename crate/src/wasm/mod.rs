@@ -15,4 +15,6 @@ pub fn start() {
 }
 
 #[cfg(feature = "render")]
+mod draw;
+#[cfg(feature = "render")]
 mod viewer;

@@ -10,9 +10,12 @@ use serde::{Deserialize, Serialize};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
-use super::convert::{f64_vec, finite_arg, js_error, object_from_js, robot as robot_from_js};
+use super::convert::{
+    f64_vec, finite_arg, from_js, js_error, object_from_js, robot as robot_from_js, to_js,
+};
+use super::draw::{DrawOptions, DrawState, SegmentView, SkeletonView, build_scene};
 use crate::kinematics::{Frames, Robot};
-use crate::render::{BackendRequest, Camera, Capsule, Renderer, Scene, Sphere, View};
+use crate::render::{BackendRequest, Camera, Renderer, Scene, View};
 use crate::skeleton::Skeleton;
 
 /// Options of `Viewer.create`.
@@ -38,6 +41,8 @@ struct Display {
     axes: bool,
     /// The ground grid.
     grid: bool,
+    /// Seconds of repulsion velocity per metre of arrow.
+    arrow_scale: f64,
 }
 
 impl Default for Display {
@@ -47,6 +52,7 @@ impl Default for Display {
             nodes: true,
             axes: false,
             grid: true,
+            arrow_scale: 0.25,
         }
     }
 }
@@ -77,12 +83,6 @@ struct Ray {
     direction: [f64; 3],
 }
 
-const VOLUME_COLOR: [f32; 4] = [0.33, 0.55, 0.85, 0.45];
-const SPINE_COLOR: [f32; 4] = [0.20, 0.24, 0.32, 1.0];
-const NODE_COLOR: [f32; 4] = [0.95, 0.55, 0.15, 1.0];
-const SPINE_RADIUS: f32 = 0.012;
-const NODE_RADIUS: f32 = 0.022;
-
 /// A canvas that draws a robot's skeleton over a ground grid, through WebGPU
 /// or WebGL2.
 ///
@@ -106,6 +106,15 @@ pub struct Viewer {
     q: Vec<f64>,
     skeleton: Skeleton,
     frames: Vec<DAffine3>,
+    /// The world last given to `drawWorld` / `drawState` (replaces the
+    /// robot's own skeleton while set).
+    world: Option<DrawState>,
+    /// Id of the highlighted obstacle.
+    selected: Option<String>,
+    /// Centre of the robot's reach (planes are drawn around it).
+    center: glam::DVec3,
+    /// Radius of the robot's reach (m).
+    reach: f64,
     dirty: bool,
 }
 
@@ -156,6 +165,10 @@ impl Viewer {
             q: Vec::new(),
             skeleton: Skeleton::default(),
             frames: Vec::new(),
+            world: None,
+            selected: None,
+            center: glam::DVec3::ZERO,
+            reach: 1.0,
             dirty: true,
         })
     }
@@ -199,8 +212,77 @@ impl Viewer {
         self.q = q;
         self.frames = frames;
         self.skeleton = skeleton;
+        self.center = center;
+        self.reach = reach;
+        self.world = None;
         self.dirty = true;
         Ok(())
+    }
+
+    /// Draws a world state given as a plain object: `{ skeleton: { nodes,
+    /// segments }, obstacles?: [{ id, shape }], controlPoints?: [{ position,
+    /// witness?, repulsion?, transitioning? }], uncertainty?: [{ obstacle,
+    /// radius }] }` (the shape of `World.state()`; other fields are ignored).
+    /// Replaces the robot's own skeleton until the next `setRobot`.
+    /// For a live world prefer `drawWorld`, which copies nothing through JS.
+    ///
+    /// # Errors
+    /// An `Error` naming the field when the object does not have that shape.
+    #[wasm_bindgen(js_name = drawState)]
+    pub fn draw_state(&mut self, state: JsValue) -> Result<(), JsError> {
+        let state: DrawState = from_js("state", state)?;
+        self.world = Some(state);
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Highlights the obstacle with this id (`null` or `undefined`: none).
+    ///
+    /// # Errors
+    /// An `Error` when `id` is neither a string nor null.
+    #[wasm_bindgen(js_name = setSelected)]
+    pub fn set_selected(&mut self, id: JsValue) -> Result<(), JsError> {
+        self.selected = if id.is_null() || id.is_undefined() {
+            None
+        } else {
+            Some(
+                id.as_string()
+                    .ok_or_else(|| JsError::new("setSelected: expected a string id or null"))?,
+            )
+        };
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Where the world point `[x, y, z]` (m) lands on the canvas, in
+    /// drawing-buffer pixels from the top-left corner, or `null` when it is
+    /// behind the eye.
+    ///
+    /// # Errors
+    /// An `Error` unless `point` is three finite numbers.
+    #[wasm_bindgen(js_name = projectPoint)]
+    pub fn project_point(&self, point: JsValue) -> Result<JsValue, JsError> {
+        let p = f64_vec("point", &point)?;
+        let [x, y, z] = p[..] else {
+            return Err(JsError::new("point: expected 3 numbers"));
+        };
+        for (k, c) in [x, y, z].into_iter().enumerate() {
+            finite_arg(&format!("point[{k}]"), c)?;
+        }
+        let (width, height) = self.renderer.size();
+        let projected = self.camera.project(
+            glam::Vec3::new(x as f32, y as f32, z as f32),
+            width as f32,
+            height as f32,
+        );
+        to_js(&projected)
+    }
+
+    /// The camera's viewing direction (unit vector from the eye towards the
+    /// target, world frame): the normal of the view-aligned drag plane.
+    #[wasm_bindgen(js_name = viewDirection)]
+    pub fn view_direction(&self) -> Vec<f64> {
+        (-self.camera.backward()).as_dvec3().to_array().to_vec()
     }
 
     /// Sets the joint vector (rad for revolute joints, m for prismatic ones)
@@ -354,6 +436,7 @@ impl Viewer {
     /// Only if the snapshot cannot be converted (not expected).
     pub fn state(&self) -> Result<JsValue, JsError> {
         let (width, height) = self.renderer.size();
+        let nodes = self.drawn_nodes();
         let state = ViewerState {
             backend: self.renderer.backend().name(),
             surface_format: format!("{:?}", self.renderer.surface_format()),
@@ -363,56 +446,53 @@ impl Viewer {
             height,
             dof: self.q.len(),
             q: self.q.clone(),
-            nodes: self.skeleton.nodes.iter().map(|n| n.to_array()).collect(),
-            screen_nodes: self
-                .skeleton
-                .nodes
+            screen_nodes: nodes
                 .iter()
                 .map(|n| {
-                    self.camera
-                        .project(n.as_vec3(), width as f32, height as f32)
+                    self.camera.project(
+                        glam::DVec3::from(*n).as_vec3(),
+                        width as f32,
+                        height as f32,
+                    )
                 })
                 .collect(),
+            nodes,
         };
         serde_wasm_bindgen::to_value(&state).map_err(|e| JsError::new(&e.to_string()))
     }
 }
 
 impl Viewer {
-    /// Rebuilds the scene from the skeleton and the display options.
+    /// Rebuilds the scene from the world (or the robot's own skeleton) and
+    /// the display options.
     fn rebuild_scene(&mut self) {
         let scene = &mut self.scene;
         scene.clear();
         scene.grid = self.display.grid.then(crate::render::Grid::default);
-        for s in &self.skeleton.segments {
-            let (a, b) = self.skeleton.endpoints(s);
-            let (a, b) = (a.as_vec3().to_array(), b.as_vec3().to_array());
-            scene.capsules.push(Capsule {
-                a,
-                b,
-                radius: [SPINE_RADIUS; 2],
-                color: SPINE_COLOR,
-            });
-            if self.display.volumes {
-                let radius = [s.radius[0] as f32, s.radius[1] as f32];
-                scene.capsules.push(Capsule {
-                    a,
-                    b,
-                    radius,
-                    color: VOLUME_COLOR,
-                });
+        let options = DrawOptions {
+            volumes: self.display.volumes,
+            nodes: self.display.nodes,
+            arrow_scale: self.display.arrow_scale,
+            plane_extent: (1.2 * self.reach).clamp(0.5, 5.0),
+        };
+        let own;
+        let state = match &self.world {
+            Some(world) => world,
+            None => {
+                own = DrawState {
+                    skeleton: skeleton_view(&self.skeleton),
+                    ..DrawState::default()
+                };
+                &own
             }
-        }
-        if self.display.nodes {
-            for n in &self.skeleton.nodes {
-                let center = n.as_vec3().to_array();
-                scene.spheres.push(Sphere {
-                    center,
-                    radius: NODE_RADIUS,
-                    color: NODE_COLOR,
-                });
-            }
-        }
+        };
+        build_scene(
+            scene,
+            state,
+            &options,
+            self.selected.as_deref(),
+            self.center.to_array(),
+        );
         if self.display.axes {
             for f in &self.frames {
                 let m = f.matrix3.as_mat3();
@@ -424,6 +504,30 @@ impl Viewer {
                 scene.push_axes(f.translation.as_vec3().to_array(), axes, 0.08, 2.0);
             }
         }
+    }
+
+    /// The skeleton nodes currently drawn (m).
+    fn drawn_nodes(&self) -> Vec<[f64; 3]> {
+        match &self.world {
+            Some(world) => world.skeleton.nodes.clone(),
+            None => self.skeleton.nodes.iter().map(|n| n.to_array()).collect(),
+        }
+    }
+}
+
+/// The drawing's view of a core skeleton.
+fn skeleton_view(skeleton: &Skeleton) -> SkeletonView {
+    SkeletonView {
+        nodes: skeleton.nodes.iter().map(|n| n.to_array()).collect(),
+        segments: skeleton
+            .segments
+            .iter()
+            .map(|s| SegmentView {
+                from: s.from,
+                to: s.to,
+                radius: s.radius,
+            })
+            .collect(),
     }
 }
 
