@@ -1,0 +1,43 @@
+// `npm run build`: the static site in dist/ — the playground page, the
+// documentation page, the embeddable element and the wasm package — ready
+// for any static host (every path is relative).
+//
+//   node scripts/site.mjs [--no-wasm]   (--no-wasm reuses crate/pkg as it is)
+import fs from 'node:fs';
+import path from 'node:path';
+import zlib from 'node:zlib';
+import { repo } from './lib.mjs';
+import { ensureTools } from './tools.mjs';
+import { buildWasm } from './build.mjs';
+
+const LIMIT = 1.5 * 1024 * 1024;
+const web = path.join(repo, 'web');
+const pkg = path.join(repo, 'crate', 'pkg');
+const dist = path.join(repo, 'dist');
+
+if (!process.argv.includes('--no-wasm')) {
+  if (!ensureTools({ browser: false })) process.exit(1);
+  if (buildWasm('web') !== 0) process.exit(1);
+}
+if (!fs.existsSync(path.join(pkg, 'skeleton_avoidance_bg.wasm'))) {
+  console.error('site: crate/pkg has no wasm; run without --no-wasm');
+  process.exit(1);
+}
+
+fs.rmSync(dist, { recursive: true, force: true });
+fs.mkdirSync(path.join(dist, 'pkg'), { recursive: true });
+for (const f of fs.readdirSync(web)) {
+  if (/\.(html|js|css|json|svg|png)$/.test(f)) fs.copyFileSync(path.join(web, f), path.join(dist, f));
+}
+for (const f of ['skeleton_avoidance.js', 'skeleton_avoidance_bg.wasm', 'skeleton_avoidance.d.ts', 'package.json']) {
+  if (fs.existsSync(path.join(pkg, f))) fs.copyFileSync(path.join(pkg, f), path.join(dist, 'pkg', f));
+}
+
+const wasm = fs.readFileSync(path.join(dist, 'pkg', 'skeleton_avoidance_bg.wasm'));
+const gz = zlib.gzipSync(wasm, { level: 9 }).length;
+const mb = (n) => (n / 1024 / 1024).toFixed(2);
+console.log(`site: dist/ written (${fs.readdirSync(dist).length} entries); wasm ${mb(wasm.length)} MB, ${mb(gz)} MB gzipped (limit ${mb(LIMIT)} MB)`);
+if (gz > LIMIT) {
+  console.error('site: the wasm is over the size limit');
+  process.exit(1);
+}
