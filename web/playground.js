@@ -123,6 +123,7 @@ export function rotateShape(shape, axis, angle) {
   if (isPoint(shape.normal)) out.normal = rotate(shape.normal, axis, angle);
   if (shape.type === 'plane') out.offset = -dot(out.normal, c);
   if (Array.isArray(shape.axes)) out.axes = shape.axes.map((a) => rotate(a, axis, angle));
+  if (shape.type === 'human' && Math.abs(axis[2]) > 0.99) out.heading = (shape.heading ?? 0) + Math.sign(axis[2]) * angle;
   if (shape.type === 'box') {
     const q = [...mul(axis, Math.sin(angle / 2)), Math.cos(angle / 2)];
     out.rotation = quatMul(q, shape.rotation ?? [0, 0, 0, 1]);
@@ -143,7 +144,7 @@ export function defaultShape(type, c, r) {
     case 'disk': return { type, center: c, normal: [0, 0, 1], radius: 0.8 * s };
     case 'polygon': return { type, vertices: [0, 1, 2, 3, 4].map((k) => add(c, [s * Math.cos(k * 1.2566), s * Math.sin(k * 1.2566), 0])) };
     case 'box': return { type, center: c, halfExtents: [0.6 * s, 0.8 * s, 0.5 * s], rotation: [0, 0, 0, 1] };
-    case 'human': return { type, position: [c[0], c[1], 0] };
+    case 'human': return { type, position: [c[0], c[1], 0], heading: Math.atan2(-c[1], -c[0]), height: 1.75 };
     default: throw new Error(`unknown obstacle type ${type}`);
   }
 }
