@@ -392,11 +392,7 @@ impl Renderer {
             "line instances",
             std::mem::size_of::<LineInstance>(),
         );
-        let mesh = InstanceBuffer::new(
-            &device,
-            "mesh vertices",
-            std::mem::size_of::<MeshVertex>(),
-        );
+        let mesh = InstanceBuffer::new(&device, "mesh vertices", std::mem::size_of::<MeshVertex>());
         let (depth_view, msaa_view) = attachments(&device, &config, sample_count);
 
         Ok(Self {
@@ -557,17 +553,15 @@ impl Renderer {
         self.lines
             .upload(&self.device, &self.queue, bytemuck::cast_slice(&lines));
 
-        let finite = |t: &&scene::Triangle| {
-            t.p.iter().flatten().chain(&t.color).all(|x| x.is_finite())
-        };
+        let finite =
+            |t: &&scene::Triangle| t.p.iter().flatten().chain(&t.color).all(|x| x.is_finite());
         let (opaque, mut blend): (Vec<&scene::Triangle>, Vec<&scene::Triangle>) = scene
             .triangles
             .iter()
             .filter(finite)
             .partition(|t| t.color[3] >= 1.0);
         let centroid = |t: &scene::Triangle| {
-            (glam::Vec3::from(t.p[0]) + glam::Vec3::from(t.p[1]) + glam::Vec3::from(t.p[2]))
-                / 3.0
+            (glam::Vec3::from(t.p[0]) + glam::Vec3::from(t.p[1]) + glam::Vec3::from(t.p[2])) / 3.0
         };
         blend.sort_by(|x, y| {
             centroid(y)

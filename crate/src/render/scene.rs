@@ -221,7 +221,10 @@ impl Scene {
                 if let (Some(&a), Some(&b), Some(&c)) =
                     (vertices.get(t[0]), vertices.get(t[1]), vertices.get(t[2]))
                 {
-                    self.triangles.push(Triangle { p: [a, b, c], color });
+                    self.triangles.push(Triangle {
+                        p: [a, b, c],
+                        color,
+                    });
                 }
             }
         }

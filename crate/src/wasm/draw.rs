@@ -49,18 +49,44 @@ pub struct SegmentView {
     pub radius: [f64; 2],
 }
 
-/// An obstacle: its id and its shape.
+/// An obstacle: its id, its shape and the primitives it is made of.
 #[derive(Clone, Debug, Deserialize)]
 pub struct ObstacleView {
     /// The obstacle's id.
     pub id: String,
-    /// Its current shape (world frame).
-    pub shape: ShapeView,
+    /// Its current shape (world frame): a primitive, or a composite such as
+    /// `{ type: "human", position, … }` whose primitives are in `parts`.
+    pub shape: serde_json::Value,
+    /// The primitives it is made of (one, or a human's parts); when missing,
+    /// `shape` itself must be a primitive.
+    #[serde(default)]
+    pub parts: Option<Vec<ShapeView>>,
+}
+
+impl ObstacleView {
+    /// The primitives to draw (empty when `shape` is no primitive and no
+    /// parts are given).
+    fn primitives(&self) -> Vec<ShapeView> {
+        match &self.parts {
+            Some(parts) => parts.clone(),
+            None => serde_json::from_value(self.shape.clone())
+                .map(|p| vec![p])
+                .unwrap_or_default(),
+        }
+    }
+
+    fn is_human(&self) -> bool {
+        self.shape.get("type").and_then(|t| t.as_str()) == Some("human")
+    }
 }
 
 /// An obstacle's shape, with the field names of the JS contract.
 #[derive(Clone, Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "camelCase", rename_all_fields = "camelCase")]
+#[serde(
+    tag = "type",
+    rename_all = "camelCase",
+    rename_all_fields = "camelCase"
+)]
 pub enum ShapeView {
     /// A point.
     Point {
@@ -144,11 +170,6 @@ pub enum ShapeView {
         /// The points (m).
         points: Vec<[f64; 3]>,
     },
-    /// A composite body (a human): capsules and spheres moved as one.
-    Human {
-        /// The parts.
-        parts: Vec<ShapeView>,
-    },
 }
 
 /// A control point as drawn.
@@ -166,6 +187,9 @@ pub struct ControlPointView {
     /// Whether it is travelling along the skeleton towards a new point.
     #[serde(default)]
     pub transitioning: bool,
+    /// Id of the obstacle it answers.
+    #[serde(default)]
+    pub obstacle: String,
 }
 
 /// The uncertainty region of a sensed obstacle.
@@ -231,18 +255,52 @@ pub fn build_scene(
     draw_skeleton(scene, &state.skeleton, options);
     for o in &state.obstacles {
         let is_selected = selected == Some(o.id.as_str());
-        draw_shape(scene, &o.shape, is_selected, around, options.plane_extent);
+        let human = o.is_human();
+        for part in o.primitives() {
+            let before = (scene.capsules.len(), scene.spheres.len());
+            draw_shape(scene, &part, is_selected, around, options.plane_extent);
+            if human && !is_selected {
+                for c in &mut scene.capsules[before.0..] {
+                    c.color = HUMAN;
+                }
+                for s in &mut scene.spheres[before.1..] {
+                    s.color = HUMAN;
+                }
+            }
+        }
     }
     for u in &state.uncertainty {
-        if !(u.radius.is_finite() && u.radius > 0.0) {
+        let m = u.radius;
+        if !(m.is_finite() && m > 0.0) {
             continue;
         }
-        if let Some(o) = state.obstacles.iter().find(|o| o.id == u.obstacle) {
-            scene.spheres.push(Sphere {
-                center: v(anchor(&o.shape)),
-                radius: u.radius as f32,
-                color: UNCERTAINTY,
-            });
+        let Some(o) = state.obstacles.iter().find(|o| o.id == u.obstacle) else {
+            continue;
+        };
+        let mut flat = false;
+        for part in o.primitives() {
+            draw_inflated(scene, &part, m as f32);
+            flat |= matches!(
+                part,
+                ShapeView::Plane { .. }
+                    | ShapeView::Rectangle { .. }
+                    | ShapeView::Disk { .. }
+                    | ShapeView::Polygon { .. }
+                    | ShapeView::Box { .. }
+                    | ShapeView::ConvexHull { .. }
+            );
+        }
+        if flat {
+            // Where the true closest point may be: a ball around each witness.
+            for cp in state.control_points.iter().filter(|c| c.obstacle == o.id) {
+                if let Some(w) = cp.witness {
+                    scene.spheres.push(Sphere {
+                        center: v(w),
+                        radius: m as f32,
+                        color: UNCERTAINTY,
+                    });
+                }
+            }
         }
     }
     for cp in &state.control_points {
@@ -275,7 +333,13 @@ pub fn build_scene(
             if len.is_finite() && len > 1e-4 {
                 let r = r * (len.min(MAX_ARROW) / len);
                 let from = DVec3::from(cp.position);
-                scene.push_arrow(v(from.to_array()), v((from + r).to_array()), 3.0, 0.05, REPULSION);
+                scene.push_arrow(
+                    v(from.to_array()),
+                    v((from + r).to_array()),
+                    3.0,
+                    0.05,
+                    REPULSION,
+                );
             }
         }
     }
@@ -337,10 +401,6 @@ pub fn anchor(shape: &ShapeView) -> [f64; 3] {
         }
         ShapeView::Polygon { vertices } => mean(vertices),
         ShapeView::ConvexHull { points } => mean(points),
-        ShapeView::Human { parts } => {
-            let anchors: Vec<[f64; 3]> = parts.iter().map(anchor).collect();
-            mean(&anchors)
-        }
     }
 }
 
@@ -452,20 +512,39 @@ fn draw_shape(
                 });
             }
         }
-        ShapeView::Human { parts } => {
-            for part in parts {
-                let before = (scene.capsules.len(), scene.spheres.len());
-                draw_shape(scene, part, selected, around, plane_extent);
-                if !selected {
-                    for c in &mut scene.capsules[before.0..] {
-                        c.color = HUMAN;
-                    }
-                    for s in &mut scene.spheres[before.1..] {
-                        s.color = HUMAN;
-                    }
-                }
-            }
+    }
+}
+
+/// The region within `m` of a round primitive (point, segment, sphere,
+/// capsule) as a translucent volume; nothing for the others.
+fn draw_inflated(scene: &mut Scene, shape: &ShapeView, m: f32) {
+    let capsule = |a: [f64; 3], b: [f64; 3], r: [f32; 2]| Capsule {
+        a: v(a),
+        b: v(b),
+        radius: [r[0] + m, r[1] + m],
+        color: UNCERTAINTY,
+    };
+    match shape {
+        ShapeView::Point { p } => scene.spheres.push(Sphere {
+            center: v(*p),
+            radius: m,
+            color: UNCERTAINTY,
+        }),
+        ShapeView::Sphere { center, radius } => scene.spheres.push(Sphere {
+            center: v(*center),
+            radius: *radius as f32 + m,
+            color: UNCERTAINTY,
+        }),
+        ShapeView::Segment { a, b } => scene.capsules.push(capsule(*a, *b, [0.0; 2])),
+        ShapeView::Capsule { a, b, radius } => {
+            scene.capsules.push(capsule(*a, *b, [*radius as f32; 2]));
         }
+        ShapeView::TaperedCapsule { a, b, radius } => {
+            scene
+                .capsules
+                .push(capsule(*a, *b, [radius[0] as f32, radius[1] as f32]));
+        }
+        _ => {}
     }
 }
 
@@ -510,7 +589,11 @@ fn ear_clip(vertices: &[[f64; 3]]) -> Vec<[usize; 3]> {
         let m = remaining.len();
         let mut clipped = false;
         for k in 0..m {
-            let (a, b, c) = (remaining[(k + m - 1) % m], remaining[k], remaining[(k + 1) % m]);
+            let (a, b, c) = (
+                remaining[(k + m - 1) % m],
+                remaining[k],
+                remaining[(k + 1) % m],
+            );
             if cross(a, b, c) <= 0.0 {
                 continue;
             }
