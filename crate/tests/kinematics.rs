@@ -575,3 +575,101 @@ fn bad_input_names_the_field() {
         .starts_with("a: 0.1 is outside")
     );
 }
+
+#[test]
+fn adjacency_follows_the_skeleton() {
+    // lwr4: rows 2, 4, 6 add no segment, so the segments of rows 1, 3, 5, 7
+    // meet at nodes: 1–3, 3–5, 5–7 are adjacent, 1–5 are not.
+    let r = robot("lwr4");
+    assert_eq!(r.skeleton_parent(3), 1);
+    assert!(r.adjacent(1, 3) && r.adjacent(3, 5) && r.adjacent(5, 7) && r.adjacent(2, 2));
+    assert!(!r.adjacent(1, 5) && !r.adjacent(3, 7));
+    // dual-arm: both arms start at the chest node; their first rows are
+    // adjacent to the torso and to each other, their upper arms are not.
+    let r = robot("dual-arm");
+    let (left, right) = (r.chains[1].first, r.chains[2].first);
+    assert!(r.adjacent(1, left) && r.adjacent(1, right) && r.adjacent(left, right));
+    assert!(!r.adjacent(left + 2, right + 2) && !r.adjacent(1, left + 2));
+    // Adjacent rows share a skeleton node; non-adjacent ones with segments do not.
+    let frames = r.forward(&vec![0.3; r.dof()]).unwrap();
+    let skel = Skeleton::build(&r, &frames);
+    for a in &skel.segments {
+        for b in &skel.segments {
+            let share = [a.from, a.to].iter().any(|n| *n == b.from || *n == b.to);
+            assert_eq!(
+                share,
+                r.adjacent(a.link, b.link),
+                "links {} and {}",
+                a.link,
+                b.link
+            );
+        }
+    }
+}
+
+#[test]
+fn pose_clik_reaches_position_and_orientation() {
+    let mut rng = Rng::new(31);
+    for name in ["lwr4", "panda", "ur5"] {
+        let r = robot(name);
+        let mut reached = 0;
+        for _ in 0..6 {
+            // A well-conditioned goal (σ_min ≥ 0.05): near singularities the
+            // damped solver slows down by design (see the boundedness test).
+            let goal_q = loop {
+                let g = random_q(&r, &mut rng);
+                let j6 = ik::end_effector_jacobian(&r, &r.forward(&g).unwrap(), 0).unwrap();
+                if ik::dls_inverse(&j6, &[], Damping::default()).sigma_min >= 0.05 {
+                    break g;
+                }
+            };
+            let goal = r.forward(&goal_q).unwrap().end_effector();
+            let (_, rot, pos) = goal.to_scale_rotation_translation();
+            let mut q: Vec<f64> = goal_q.iter().map(|v| v + rng.range(-0.25, 0.25)).collect();
+            r.clamp_to_limits(&mut q);
+            let mut done = false;
+            for _ in 0..1500 {
+                let frames = r.forward(&q).unwrap();
+                let (_, rot2, pos2) = frames.end_effector().to_scale_rotation_translation();
+                if pos.distance(pos2) < 1e-6 && ik::orientation_error(rot, rot2).length() < 1e-6 {
+                    done = true;
+                    break;
+                }
+                let qd = ik::clik_pose(
+                    &r,
+                    &frames,
+                    0,
+                    (pos, rot),
+                    (DVec3::ZERO, DVec3::ZERO),
+                    (20.0, 20.0),
+                    &[],
+                    Damping::default(),
+                )
+                .unwrap();
+                for (v, d) in q.iter_mut().zip(&qd) {
+                    *v += d * 0.005;
+                }
+                r.clamp_to_limits(&mut q);
+            }
+            if done {
+                reached += 1;
+            }
+        }
+        assert_eq!(reached, 6, "{name}: {reached}/6 poses reached");
+    }
+    // The 6 × n Jacobian's linear rows equal J_θ of the end-effector point.
+    let r = robot("lwr4");
+    let frames = r.forward(&[0.2, 0.4, -0.3, -1.0, 0.5, 0.7, 0.1]).unwrap();
+    let j6 = ik::end_effector_jacobian(&r, &frames, 0).unwrap();
+    let jp = DhPoint {
+        link: 7,
+        d: 0.078,
+        a: 0.0,
+    }
+    .jacobians(&r, &frames);
+    for k in 0..7 {
+        for row in 0..3 {
+            assert!((j6.get(row, k) - jp.j_theta[k][row]).abs() < 1e-12);
+        }
+    }
+}

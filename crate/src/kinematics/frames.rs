@@ -31,6 +31,9 @@ pub struct Frames {
     pub qdot: Vec<f64>,
     /// The convention of the robot the frames belong to.
     pub convention: Option<Convention>,
+    /// Memo of `(α, sin α, cos α)` per row: the twists are constant, and
+    /// trigonometry is costly in wasm (software libm).
+    alpha_memo: Vec<(f64, f64, f64)>,
 }
 
 impl Frames {
@@ -86,7 +89,15 @@ impl Frames {
                 JointType::Prismatic => (joint.theta, joint.d + q[i]),
             };
             let (st, ct) = theta.sin_cos();
-            let (sa, ca) = joint.alpha.sin_cos();
+            if self.alpha_memo.len() <= i {
+                self.alpha_memo.push((f64::NAN, 0.0, 0.0));
+            }
+            let memo = &mut self.alpha_memo[i];
+            if memo.0.to_bits() != joint.alpha.to_bits() {
+                let (s, c) = joint.alpha.sin_cos();
+                *memo = (joint.alpha, s, c);
+            }
+            let (sa, ca) = (memo.1, memo.2);
             let xs = start.matrix3.x_axis;
             let ys = start.matrix3.y_axis;
             let zs = start.matrix3.z_axis;

@@ -496,3 +496,32 @@ pub fn solve_position(
         max_speed,
     })
 }
+
+/// First-order CLIK for a 6-D end-effector task (position and orientation) of
+/// chain `chain`:
+/// `θ̇ = J_W^† [v_d + K_p (p_d − p); ω_d + K_o e_o]`, with `e_o` from
+/// [`orientation_error`]. Returns the joint speeds (not yet limited).
+///
+/// # Errors
+/// An unknown chain.
+#[allow(clippy::too_many_arguments)]
+pub fn clik_pose(
+    robot: &Robot,
+    frames: &Frames,
+    chain: usize,
+    target: (DVec3, DQuat),
+    target_twist: (DVec3, DVec3),
+    gains: (f64, f64),
+    weights: &[f64],
+    damping: Damping,
+) -> Result<Vec<f64>, FieldError> {
+    let jac = end_effector_jacobian(robot, frames, chain)?;
+    let ee = frames.end_effectors[chain];
+    let (_, rotation, position) = ee.to_scale_rotation_translation();
+    let ep = target.0 - position;
+    let eo = orientation_error(target.1, rotation);
+    let v = target_twist.0 + gains.0 * ep;
+    let w = target_twist.1 + gains.1 * eo;
+    let rhs = [v.x, v.y, v.z, w.x, w.y, w.z];
+    Ok(dls_inverse(&jac, weights, damping).inverse.mul_vec(&rhs))
+}

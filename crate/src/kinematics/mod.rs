@@ -166,14 +166,50 @@ impl Robot {
         false
     }
 
-    /// Whether two rows are adjacent in the tree (one starts from the other's
-    /// frame) or are the same row; adjacent links are skipped by the
-    /// self-collision query.
+    /// Whether row `link` (1-based) adds a segment to the skeleton: a
+    /// translation of at least [`crate::skeleton::NODE_TOLERANCE`], a
+    /// prismatic joint, or an extension.
+    #[must_use]
+    pub fn has_segment(&self, link: usize) -> bool {
+        let j = &self.joints[link - 1];
+        let tol = crate::skeleton::NODE_TOLERANCE;
+        j.kind == JointType::Prismatic || j.d.abs() >= tol || j.a.abs() >= tol || j.extension >= tol
+    }
+
+    /// The nearest ancestor of row `link` that has a segment (0 = the base):
+    /// the row whose last node the segments of `link` start from.
+    #[must_use]
+    pub fn skeleton_parent(&self, link: usize) -> usize {
+        let mut k = self.joints[link - 1].parent;
+        while k >= 1 && !self.has_segment(k) {
+            k = self.joints[k - 1].parent;
+        }
+        k
+    }
+
+    /// Whether the segments of two rows touch by construction: the same row,
+    /// one starting where the other ends (rows without segments in between
+    /// are skipped), or siblings starting from the same node (two arms on
+    /// one torso). The self-collision query skips adjacent rows.
     #[must_use]
     pub fn adjacent(&self, i: usize, j: usize) -> bool {
-        i == j
-            || (j >= 1 && j <= self.dof() && self.parent_link(j) == i)
-            || (i >= 1 && i <= self.dof() && self.parent_link(i) == j)
+        let n = self.dof();
+        if i == j {
+            return true;
+        }
+        let sp = |k: usize| {
+            if k >= 1 && k <= n {
+                Some(self.skeleton_parent(k))
+            } else {
+                None
+            }
+        };
+        match (sp(i), sp(j)) {
+            (Some(pi), Some(pj)) => pi == j || pj == i || pi == pj,
+            (Some(pi), None) => pi == j,
+            (None, Some(pj)) => pj == i,
+            (None, None) => false,
+        }
     }
 
     /// Checks a joint vector: its length and that every value is finite.

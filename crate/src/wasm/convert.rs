@@ -70,8 +70,24 @@ pub fn from_js_at<T: DeserializeOwned>(
         } else {
             inner
         };
-        let err = if path == "." || path.is_empty() {
+        let mut path = if path == "." { String::new() } else { path };
+        let mut reason = reason;
+        // "missing field `radius`" reads better as "radius: missing".
+        if let Some(name) = reason
+            .strip_prefix("missing field `")
+            .map(|r| r.trim_end_matches('`').to_owned())
+        {
+            path = if path.is_empty() {
+                name
+            } else {
+                format!("{path}.{name}")
+            };
+            reason = "missing".to_owned();
+        }
+        let err = if path.is_empty() {
             FieldError::new(root, reason)
+        } else if prefix.is_empty() {
+            FieldError::new(path, reason)
         } else {
             FieldError::new(path, reason).within(prefix)
         };

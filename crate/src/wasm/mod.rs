@@ -3,6 +3,8 @@
 //! Every export returns `Result<_, JsError>`; a validation error becomes a JS
 //! `Error` whose message names the field and the reason.
 
+mod distance;
+
 use wasm_bindgen::prelude::*;
 
 mod convert;
