@@ -9,6 +9,10 @@
 use glam::{DQuat, DVec3};
 use serde::Deserialize;
 
+use crate::distance::{
+    BoxSpec, CapsuleSpec, DiskSpec, PlaneSpec, PointSpec, Polygon, PolygonSpec, PrimitiveSpec,
+    RectangleSpec, SegmentSpec, SphereSpec, TaperedCapsuleSpec,
+};
 use crate::render::{Capsule, Line, Scene, Sphere};
 
 /// What the viewer draws of a world (a subset of the world's state; other
@@ -60,13 +64,13 @@ pub struct ObstacleView {
     /// The primitives it is made of (one, or a human's parts); when missing,
     /// `shape` itself must be a primitive.
     #[serde(default)]
-    pub parts: Option<Vec<ShapeView>>,
+    pub parts: Option<Vec<PrimitiveSpec>>,
 }
 
 impl ObstacleView {
     /// The primitives to draw (empty when `shape` is no primitive and no
     /// parts are given).
-    fn primitives(&self) -> Vec<ShapeView> {
+    fn primitives(&self) -> Vec<PrimitiveSpec> {
         match &self.parts {
             Some(parts) => parts.clone(),
             None => serde_json::from_value(self.shape.clone())
@@ -78,98 +82,6 @@ impl ObstacleView {
     fn is_human(&self) -> bool {
         self.shape.get("type").and_then(|t| t.as_str()) == Some("human")
     }
-}
-
-/// An obstacle's shape, with the field names of the JS contract.
-#[derive(Clone, Debug, Deserialize)]
-#[serde(
-    tag = "type",
-    rename_all = "camelCase",
-    rename_all_fields = "camelCase"
-)]
-pub enum ShapeView {
-    /// A point.
-    Point {
-        /// Position (m).
-        p: [f64; 3],
-    },
-    /// A segment.
-    Segment {
-        /// First end (m).
-        a: [f64; 3],
-        /// Second end (m).
-        b: [f64; 3],
-    },
-    /// A ball.
-    Sphere {
-        /// Centre (m).
-        center: [f64; 3],
-        /// Radius (m).
-        radius: f64,
-    },
-    /// A capsule.
-    Capsule {
-        /// First end (m).
-        a: [f64; 3],
-        /// Second end (m).
-        b: [f64; 3],
-        /// Radius (m).
-        radius: f64,
-    },
-    /// A capsule whose radius varies linearly.
-    TaperedCapsule {
-        /// First end (m).
-        a: [f64; 3],
-        /// Second end (m).
-        b: [f64; 3],
-        /// Radius at `a` and at `b` (m).
-        radius: [f64; 2],
-    },
-    /// The plane `normal · x + offset = 0`.
-    Plane {
-        /// Normal (any length).
-        normal: [f64; 3],
-        /// Offset (m, for a unit normal).
-        offset: f64,
-    },
-    /// A rectangle.
-    Rectangle {
-        /// Centre (m).
-        center: [f64; 3],
-        /// Its two in-plane axes (unit, orthogonal).
-        axes: [[f64; 3]; 2],
-        /// Half sides along the axes (m).
-        half_extents: [f64; 2],
-    },
-    /// A disk.
-    Disk {
-        /// Centre (m).
-        center: [f64; 3],
-        /// Normal of its plane.
-        normal: [f64; 3],
-        /// Radius (m).
-        radius: f64,
-    },
-    /// A planar polygon.
-    Polygon {
-        /// Vertices in order (m).
-        vertices: Vec<[f64; 3]>,
-    },
-    /// An oriented box.
-    Box {
-        /// Centre (m).
-        center: [f64; 3],
-        /// Half sides along its axes (m).
-        half_extents: [f64; 3],
-        /// Rotation as a quaternion `[x, y, z, w]` (identity when missing).
-        #[serde(default)]
-        rotation: Option<[f64; 4]>,
-    },
-    /// The convex hull of points (drawn as its points and their star).
-    ConvexHull {
-        /// The points (m).
-        points: Vec<[f64; 3]>,
-    },
 }
 
 /// A control point as drawn.
@@ -280,14 +192,13 @@ pub fn build_scene(
         let mut flat = false;
         for part in o.primitives() {
             draw_inflated(scene, &part, m as f32);
-            flat |= matches!(
+            flat |= !matches!(
                 part,
-                ShapeView::Plane { .. }
-                    | ShapeView::Rectangle { .. }
-                    | ShapeView::Disk { .. }
-                    | ShapeView::Polygon { .. }
-                    | ShapeView::Box { .. }
-                    | ShapeView::ConvexHull { .. }
+                PrimitiveSpec::Point(_)
+                    | PrimitiveSpec::Segment(_)
+                    | PrimitiveSpec::Sphere(_)
+                    | PrimitiveSpec::Capsule(_)
+                    | PrimitiveSpec::TaperedCapsule(_)
             );
         }
         if flat {
@@ -379,7 +290,7 @@ fn draw_skeleton(scene: &mut Scene, skeleton: &SkeletonView, options: &DrawOptio
 
 /// A representative point of a shape: its centre (the sensed position).
 #[must_use]
-pub fn anchor(shape: &ShapeView) -> [f64; 3] {
+pub fn anchor(shape: &PrimitiveSpec) -> [f64; 3] {
     let mean = |points: &[[f64; 3]]| {
         let sum = points
             .iter()
@@ -387,26 +298,26 @@ pub fn anchor(shape: &ShapeView) -> [f64; 3] {
         (sum / points.len().max(1) as f64).to_array()
     };
     match shape {
-        ShapeView::Point { p } => *p,
-        ShapeView::Segment { a, b }
-        | ShapeView::Capsule { a, b, .. }
-        | ShapeView::TaperedCapsule { a, b, .. } => mean(&[*a, *b]),
-        ShapeView::Sphere { center, .. }
-        | ShapeView::Rectangle { center, .. }
-        | ShapeView::Disk { center, .. }
-        | ShapeView::Box { center, .. } => *center,
-        ShapeView::Plane { normal, offset } => {
+        PrimitiveSpec::Point(PointSpec { p }) => *p,
+        PrimitiveSpec::Segment(SegmentSpec { a, b })
+        | PrimitiveSpec::Capsule(CapsuleSpec { a, b, .. })
+        | PrimitiveSpec::TaperedCapsule(TaperedCapsuleSpec { a, b, .. }) => mean(&[*a, *b]),
+        PrimitiveSpec::Sphere(SphereSpec { center, .. })
+        | PrimitiveSpec::Rectangle(RectangleSpec { center, .. })
+        | PrimitiveSpec::Disk(DiskSpec { center, .. })
+        | PrimitiveSpec::Box(BoxSpec { center, .. }) => *center,
+        PrimitiveSpec::Plane(PlaneSpec { normal, offset }) => {
             let n = DVec3::from(*normal);
             (n * (-offset / n.length_squared().max(1e-12))).to_array()
         }
-        ShapeView::Polygon { vertices } => mean(vertices),
-        ShapeView::ConvexHull { points } => mean(points),
+        PrimitiveSpec::Polygon(PolygonSpec { vertices }) => mean(vertices),
+        PrimitiveSpec::ConvexHull(crate::distance::ConvexHullSpec { points }) => mean(points),
     }
 }
 
 fn draw_shape(
     scene: &mut Scene,
-    shape: &ShapeView,
+    shape: &PrimitiveSpec,
     selected: bool,
     around: [f64; 3],
     plane_extent: f64,
@@ -417,35 +328,37 @@ fn draw_shape(
         (SOLID, FLAT, OUTLINE)
     };
     match shape {
-        ShapeView::Point { p } => scene.spheres.push(Sphere {
+        PrimitiveSpec::Point(PointSpec { p }) => scene.spheres.push(Sphere {
             center: v(*p),
             radius: 1.5 * THIN,
             color: solid,
         }),
-        ShapeView::Segment { a, b } => scene.capsules.push(Capsule {
+        PrimitiveSpec::Segment(SegmentSpec { a, b }) => scene.capsules.push(Capsule {
             a: v(*a),
             b: v(*b),
             radius: [THIN; 2],
             color: solid,
         }),
-        ShapeView::Sphere { center, radius } => scene.spheres.push(Sphere {
+        PrimitiveSpec::Sphere(SphereSpec { center, radius }) => scene.spheres.push(Sphere {
             center: v(*center),
             radius: *radius as f32,
             color: solid,
         }),
-        ShapeView::Capsule { a, b, radius } => scene.capsules.push(Capsule {
+        PrimitiveSpec::Capsule(CapsuleSpec { a, b, radius }) => scene.capsules.push(Capsule {
             a: v(*a),
             b: v(*b),
             radius: [*radius as f32; 2],
             color: solid,
         }),
-        ShapeView::TaperedCapsule { a, b, radius } => scene.capsules.push(Capsule {
-            a: v(*a),
-            b: v(*b),
-            radius: [radius[0] as f32, radius[1] as f32],
-            color: solid,
-        }),
-        ShapeView::Plane { normal, offset } => {
+        PrimitiveSpec::TaperedCapsule(TaperedCapsuleSpec { a, b, radius }) => {
+            scene.capsules.push(Capsule {
+                a: v(*a),
+                b: v(*b),
+                radius: [radius[0] as f32, radius[1] as f32],
+                color: solid,
+            })
+        }
+        PrimitiveSpec::Plane(PlaneSpec { normal, offset }) => {
             let color = if selected { SELECTED_FLAT } else { PLANE };
             scene.push_plane(
                 v(*normal),
@@ -456,35 +369,38 @@ fn draw_shape(
                 outline,
             );
         }
-        ShapeView::Rectangle {
+        PrimitiveSpec::Rectangle(RectangleSpec {
             center,
             axes,
             half_extents,
-        } => scene.push_rectangle(
+        }) => scene.push_rectangle(
             v(*center),
             [v(axes[0]), v(axes[1])],
             [half_extents[0] as f32, half_extents[1] as f32],
             flat,
             outline,
         ),
-        ShapeView::Disk {
+        PrimitiveSpec::Disk(DiskSpec {
             center,
             normal,
             radius,
-        } => {
+        }) => {
             let n = DVec3::from(*normal).normalize_or(DVec3::Z);
             scene.push_disk(v(*center), v(n.to_array()), *radius as f32, flat, outline);
         }
-        ShapeView::Polygon { vertices } => {
+        PrimitiveSpec::Polygon(PolygonSpec { vertices }) => {
             let points: Vec<[f32; 3]> = vertices.iter().map(|p| v(*p)).collect();
-            let triangles = ear_clip(vertices);
+            // The library's triangulation; a fan when the polygon is refused.
+            let triangles = Polygon::new(vertices.iter().map(|p| DVec3::from(*p)).collect())
+                .map(|p| p.triangles())
+                .unwrap_or_default();
             scene.push_polygon(&points, &triangles, flat, outline);
         }
-        ShapeView::Box {
+        PrimitiveSpec::Box(BoxSpec {
             center,
             half_extents,
             rotation,
-        } => {
+        }) => {
             let q = rotation
                 .map(DQuat::from_array)
                 .filter(|q| q.is_finite() && q.length() > 1e-9)
@@ -496,7 +412,7 @@ fn draw_shape(
             ];
             scene.push_box(v(*center), axes, v(*half_extents), solid, outline);
         }
-        ShapeView::ConvexHull { points } => {
+        PrimitiveSpec::ConvexHull(crate::distance::ConvexHullSpec { points }) => {
             let c = anchor(shape);
             for p in points {
                 scene.spheres.push(Sphere {
@@ -517,7 +433,7 @@ fn draw_shape(
 
 /// The region within `m` of a round primitive (point, segment, sphere,
 /// capsule) as a translucent volume; nothing for the others.
-fn draw_inflated(scene: &mut Scene, shape: &ShapeView, m: f32) {
+fn draw_inflated(scene: &mut Scene, shape: &PrimitiveSpec, m: f32) {
     let capsule = |a: [f64; 3], b: [f64; 3], r: [f32; 2]| Capsule {
         a: v(a),
         b: v(b),
@@ -525,98 +441,27 @@ fn draw_inflated(scene: &mut Scene, shape: &ShapeView, m: f32) {
         color: UNCERTAINTY,
     };
     match shape {
-        ShapeView::Point { p } => scene.spheres.push(Sphere {
+        PrimitiveSpec::Point(PointSpec { p }) => scene.spheres.push(Sphere {
             center: v(*p),
             radius: m,
             color: UNCERTAINTY,
         }),
-        ShapeView::Sphere { center, radius } => scene.spheres.push(Sphere {
+        PrimitiveSpec::Sphere(SphereSpec { center, radius }) => scene.spheres.push(Sphere {
             center: v(*center),
             radius: *radius as f32 + m,
             color: UNCERTAINTY,
         }),
-        ShapeView::Segment { a, b } => scene.capsules.push(capsule(*a, *b, [0.0; 2])),
-        ShapeView::Capsule { a, b, radius } => {
+        PrimitiveSpec::Segment(SegmentSpec { a, b }) => {
+            scene.capsules.push(capsule(*a, *b, [0.0; 2]))
+        }
+        PrimitiveSpec::Capsule(CapsuleSpec { a, b, radius }) => {
             scene.capsules.push(capsule(*a, *b, [*radius as f32; 2]));
         }
-        ShapeView::TaperedCapsule { a, b, radius } => {
+        PrimitiveSpec::TaperedCapsule(TaperedCapsuleSpec { a, b, radius }) => {
             scene
                 .capsules
                 .push(capsule(*a, *b, [radius[0] as f32, radius[1] as f32]));
         }
         _ => {}
     }
-}
-
-/// Triangles of a planar, simple polygon (ear clipping in its own plane);
-/// empty for fewer than three vertices or a degenerate polygon.
-fn ear_clip(vertices: &[[f64; 3]]) -> Vec<[usize; 3]> {
-    let n = vertices.len();
-    if n < 3 {
-        return Vec::new();
-    }
-    let p: Vec<DVec3> = vertices.iter().map(|x| DVec3::from(*x)).collect();
-    // Newell's normal, then 2D coordinates in the polygon's plane.
-    let mut normal = DVec3::ZERO;
-    for i in 0..n {
-        let (a, b) = (p[i], p[(i + 1) % n]);
-        normal += DVec3::new(
-            (a.y - b.y) * (a.z + b.z),
-            (a.z - b.z) * (a.x + b.x),
-            (a.x - b.x) * (a.y + b.y),
-        );
-    }
-    let Some(normal) = normal.try_normalize() else {
-        return Vec::new();
-    };
-    let u = normal.any_orthonormal_vector();
-    let w = normal.cross(u);
-    let q: Vec<(f64, f64)> = p.iter().map(|x| (x.dot(u), x.dot(w))).collect();
-    let cross = |a: usize, b: usize, c: usize| {
-        (q[b].0 - q[a].0) * (q[c].1 - q[a].1) - (q[b].1 - q[a].1) * (q[c].0 - q[a].0)
-    };
-    let inside = |a: usize, b: usize, c: usize, x: usize| {
-        let s = |i: usize, j: usize| {
-            (q[j].0 - q[i].0) * (q[x].1 - q[i].1) - (q[j].1 - q[i].1) * (q[x].0 - q[i].0)
-        };
-        s(a, b) >= 0.0 && s(b, c) >= 0.0 && s(c, a) >= 0.0
-    };
-    let mut remaining: Vec<usize> = (0..n).collect();
-    let mut out = Vec::with_capacity(n - 2);
-    let mut guard = 0;
-    while remaining.len() > 3 && guard < 4 * n * n {
-        guard += 1;
-        let m = remaining.len();
-        let mut clipped = false;
-        for k in 0..m {
-            let (a, b, c) = (
-                remaining[(k + m - 1) % m],
-                remaining[k],
-                remaining[(k + 1) % m],
-            );
-            if cross(a, b, c) <= 0.0 {
-                continue;
-            }
-            if remaining
-                .iter()
-                .any(|&x| x != a && x != b && x != c && inside(a, b, c, x))
-            {
-                continue;
-            }
-            out.push([a, b, c]);
-            remaining.remove(k);
-            clipped = true;
-            break;
-        }
-        if !clipped {
-            break;
-        }
-    }
-    if remaining.len() == 3 {
-        out.push([remaining[0], remaining[1], remaining[2]]);
-    }
-    if out.len() + 2 != n {
-        return Vec::new();
-    }
-    out
 }
