@@ -159,7 +159,7 @@ impl InstanceBuffer {
 ///
 /// # Example (in an async wasm function)
 /// ```ignore
-/// let mut renderer = Renderer::new(canvas, BackendRequest::Auto).await?;
+/// let mut renderer = Renderer::new(canvas, BackendRequest::Auto, None).await?;
 /// renderer.resize(800, 600);
 /// renderer.update(&scene, &camera);
 /// renderer.render()?;
@@ -171,6 +171,7 @@ pub struct Renderer {
     queue: wgpu::Queue,
     config: wgpu::SurfaceConfiguration,
     backend: Backend,
+    adapter_name: String,
     sample_count: u32,
     depth_view: wgpu::TextureView,
     msaa_view: Option<wgpu::TextureView>,
@@ -199,7 +200,10 @@ pub struct Renderer {
 
 impl Renderer {
     /// Starts a renderer drawing into `canvas` with the backend `request`
-    /// asks for. The canvas keeps its size until [`Renderer::resize`].
+    /// asks for, multisampled (4×) when `antialias` says so (`None`: unless
+    /// the adapter is a software rasteriser such as SwiftShader, where
+    /// multisampling halves the frame rate) and the adapter supports it.
+    /// The canvas keeps its size until [`Renderer::resize`].
     ///
     /// # Errors
     /// [`RenderError::NoAdapter`] when the browser has neither WebGPU nor
@@ -209,6 +213,7 @@ impl Renderer {
     pub async fn new(
         canvas: web_sys::HtmlCanvasElement,
         request: BackendRequest,
+        antialias: Option<bool>,
     ) -> Result<Self, RenderError> {
         let (backends, requested) = match request {
             BackendRequest::Auto => (
@@ -245,7 +250,22 @@ impl Renderer {
             })
             .await
             .map_err(|_| RenderError::NoAdapter { requested })?;
-        let backend = match adapter.get_info().backend {
+        let info = adapter.get_info();
+        let adapter_name = [
+            info.name.as_str(),
+            info.driver.as_str(),
+            info.driver_info.as_str(),
+        ]
+        .into_iter()
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>()
+        .join(" / ");
+        let software = info.device_type == wgpu::DeviceType::Cpu
+            || ["swiftshader", "llvmpipe", "software", "lavapipe"]
+                .iter()
+                .any(|k| adapter_name.to_lowercase().contains(k));
+        let antialias = antialias.unwrap_or(!software);
+        let backend = match info.backend {
             wgpu::Backend::BrowserWebGpu => Backend::WebGpu,
             _ => Backend::WebGl2,
         };
@@ -300,7 +320,8 @@ impl Renderer {
         surface.configure(&device, &config);
 
         let format_flags = adapter.get_texture_format_features(format).flags;
-        let sample_count = if format_flags.sample_count_supported(4)
+        let sample_count = if antialias
+            && format_flags.sample_count_supported(4)
             && adapter
                 .get_texture_format_features(DEPTH_FORMAT)
                 .flags
@@ -401,6 +422,7 @@ impl Renderer {
             queue,
             config,
             backend,
+            adapter_name,
             sample_count,
             depth_view,
             msaa_view,
@@ -432,6 +454,12 @@ impl Renderer {
     #[must_use]
     pub fn backend(&self) -> Backend {
         self.backend
+    }
+
+    /// What the browser says the adapter is (may be empty or masked).
+    #[must_use]
+    pub fn adapter_name(&self) -> &str {
+        &self.adapter_name
     }
 
     /// The colour format of the canvas, e.g. `Rgba8Unorm`.

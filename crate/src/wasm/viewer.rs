@@ -27,6 +27,9 @@ struct ViewerOptions {
     /// `"auto"` (default: 2D top view for planar robots, else 3D), `"3d"`,
     /// `"top"`, `"front"`, `"side"`.
     view: Option<String>,
+    /// 4× multisampling (default: on unless the adapter is a software
+    /// rasteriser).
+    antialias: Option<bool>,
 }
 
 /// What `setDisplay` toggles.
@@ -62,6 +65,7 @@ impl Default for Display {
 #[serde(rename_all = "camelCase")]
 struct ViewerState {
     backend: &'static str,
+    adapter: String,
     surface_format: String,
     sample_count: u32,
     view: &'static str,
@@ -123,7 +127,9 @@ impl Viewer {
     /// Starts a viewer on `canvas` (an `HTMLCanvasElement`).
     ///
     /// `options`: `{ backend?: "auto" | "webgpu" | "webgl2", view?: "auto" |
-    /// "3d" | "top" | "front" | "side" }`.
+    /// "3d" | "top" | "front" | "side", antialias?: boolean }` (antialias:
+    /// 4× multisampling; by default on unless the adapter is a software
+    /// rasteriser).
     ///
     /// # Errors
     /// Rejects with an `Error` when `canvas` is not a canvas, an option is
@@ -150,7 +156,7 @@ impl Viewer {
             None | Some("auto") => None,
             Some(name) => Some(View::parse(name).ok_or_else(|| view_error("options.view", name))?),
         };
-        let renderer = Renderer::new(canvas, request)
+        let renderer = Renderer::new(canvas, request, options.antialias)
             .await
             .map_err(|e| JsError::new(&e.to_string()))?;
         let camera = Camera::framing(Vec3::ZERO, 1.0, fixed_view.unwrap_or(View::Orbit));
@@ -439,6 +445,7 @@ impl Viewer {
         let nodes = self.drawn_nodes();
         let state = ViewerState {
             backend: self.renderer.backend().name(),
+            adapter: self.renderer.adapter_name().to_owned(),
             surface_format: format!("{:?}", self.renderer.surface_format()),
             sample_count: self.renderer.sample_count(),
             view: self.camera.view.name(),
