@@ -1,12 +1,11 @@
 // The playground page: one full <skeleton-playground> filling the window.
-// `?scenario=<example>` picks the example, `?backend=` and `?view=` are
-// passed on, `#scenario=…` (a shared link) restores a scene.
-// `window.playground` is the hook the browser tests and the console use.
-import './embed.js';
-
+// `?scenario=<example>` picks the example; `?backend=`, `?view=`, `?speed=`
+// and `?paused` are passed on to the element; `#scenario=…` (a shared link)
+// restores a scene. `window.playground` is the hook the browser tests and the
+// console use.
 const params = new URLSearchParams(location.search);
 const element = document.getElementById('playground');
-for (const key of ['backend', 'view', 'speed']) {
+for (const key of ['backend', 'view', 'speed', 'paused']) {
   if (params.has(key)) element.setAttribute(key, params.get(key));
 }
 element.setAttribute('scenario', params.get('scenario') ?? 'planar-transition');
@@ -14,7 +13,9 @@ const status = document.getElementById('page-status');
 
 const playground = {
   /** Resolves once the first frames are drawn; rejects with the failure shown on the page. */
-  ready: element.ready.then(() => {
+  // The element reads its attributes when it is defined: they are set above,
+  // and the module defining it is loaded only now.
+  ready: import('./embed.js').then(() => element.ready).then(() => {
     playground.backend = element.playground.backend;
     status.textContent = `Drawing with ${playground.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}. Press ? for the keys.`;
   }),

@@ -755,7 +755,8 @@ export class Playground {
       if (joints.some((x) => x.d !== 0)) this.plots.dh.push(`d${i + 1}`, t, d);
     });
     Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
-    for (const key of this.shownPlots) this.plots[key].draw();
+    // Plots are redrawn at half the frame rate: enough to read, half the cost.
+    if (this.frames % 2 === 0) for (const key of this.shownPlots) this.plots[key].draw();
   }
 
   showEvents() {
@@ -956,14 +957,16 @@ export class Playground {
           // Metres per pixel at the picked point, for moves along the normal.
           const a = this.onPlane(px, hit.point, n);
           const b = this.onPlane([px[0], px[1] + 1], hit.point, n);
-          drag = { kind: 'obstacle', id: hit.id, shape, point: hit.point, n, along: e.altKey || e.ctrlKey || e.metaKey,
+          // The drag plane faces the camera through the picked point; the
+          // anchor is where the pointer's ray meets it.
+          drag = { kind: 'obstacle', id: hit.id, shape, point: a ?? hit.point, n, along: e.altKey || e.ctrlKey || e.metaKey,
             y: px[1], mpp: a && b ? len(sub(a, b)) : 0.002, moved: false };
           return;
         }
       }
       drag = { kind: 'camera', x: e.clientX, y: e.clientY, pan: camera, moved: false };
     });
-    canvas.addEventListener('pointermove', (e) => {
+    const dragTo = (e) => {
       if (!drag) return;
       if (drag.kind === 'camera') {
         const dpr = window.devicePixelRatio || 1;
@@ -987,12 +990,16 @@ export class Playground {
         delta = sub(p, drag.point);
       }
       drag.y = px[1];
+      if (len(delta) === 0) return;
       drag.point = add(drag.point, delta);
       drag.shape = translateShape(drag.shape, delta);
       drag.moved = true;
       if (!this.setShape(drag.id, drag.shape)) drag = null;
-    });
-    const end = () => {
+    };
+    canvas.addEventListener('pointermove', dragTo);
+    const end = (e) => {
+      // The browser may coalesce the last moves into the release: apply it.
+      if (e.type === 'pointerup') dragTo(e);
       if (drag?.kind === 'camera' && !drag.moved && !drag.pan) this.select(null);
       if (drag?.kind === 'obstacle') this.refreshSelected();
       drag = null;

@@ -168,7 +168,9 @@ test('a shared URL restores the same scene', async () => {
     const url = await page.evaluate(() => window.playground.app.share());
     const before = await state(page);
     const page2 = await browser.context.newPage();
-    await page2.goto(url);
+    const paused = new URL(url);
+    paused.searchParams.set('paused', '');
+    await page2.goto(paused.href);
     await page2.evaluate(() => window.playground.ready);
     await frames(page2, 2);
     const restored = await state(page2);
