@@ -13,6 +13,7 @@
 //   view      "auto" (default), "3d", "top", "front", "side"
 //   speed     simulation speed factor (default 1)
 //   paused    start paused
+//   stats     show the stats overlay (always shown with controls="full")
 //   share     read the scenario from the page URL's #scenario= fragment when present
 //             and follow later changes of it (for a page hosting one full playground)
 //
@@ -58,6 +59,7 @@ export class SkeletonPlayground extends HTMLElement {
       view: this.getAttribute('view') ?? undefined,
       speed: this.hasAttribute('speed') ? Number(this.getAttribute('speed')) : 1,
       plot: this.getAttribute('plot') ?? undefined,
+      stats: this.hasAttribute('stats'),
       keyboardTarget: this.hasAttribute('fill') ? window : undefined,
     });
     this.playground = pg;

@@ -244,7 +244,7 @@ export class Playground {
     const plots = h('div', { class: 'plots' }, wanted.filter((k) => this.plots[k]).map((k) => this.plots[k].canvas));
     this.shownPlots = wanted.filter((k) => this.plots[k]);
 
-    const cls = `sp ${this.controls}${this.options.plot ? ' with-plot' : ''}`;
+    const cls = `sp ${this.controls}${this.options.plot ? ' with-plot' : ''}${this.options.stats ? ' with-stats' : ''}`;
     this.container = h('div', { class: cls }, stage, plots);
     if (this.controls === 'full') this.container.append(this.buildPanel());
     else if (this.controls === 'minimal') this.container.append(this.buildBar());

@@ -43,5 +43,6 @@ kbd { font: 11px ui-monospace, monospace; border: 1px solid #c9ced8; border-bott
 .bar .title { flex: 1; color: #556; font-size: 12px; overflow: hidden; text-overflow: ellipsis; white-space: nowrap; }
 .hint { color: #667; font-size: 11px; }
 .sp.minimal .plots, .sp.none .plots { display: none; }
+.sp.minimal:not(.with-stats) .stats, .sp.none:not(.with-stats) .stats { display: none; }
 .sp.minimal.with-plot .plots { display: grid; grid-template-columns: 1fr; height: 8rem; }
 `;
