@@ -476,6 +476,7 @@ export class Playground {
     for (const plot of Object.values(this.plots)) plot.clear();
     this.state = this.world.state();
     this.viewer.drawWorld(this.world);
+    this.edited = true;
     this.notices.replaceChildren();
   }
 
@@ -632,6 +633,7 @@ export class Playground {
     const spec = { id, shape: defaultShape(type, c, reach) };
     const ok = this.guard(() => { this.world.addObstacle(spec); return true; });
     if (!ok) return null;
+    this.edited = true;
     this.scenario.obstacles = [...(this.scenario.obstacles ?? []), spec];
     this.select(id);
     this.setStatus(`Added ${id}.`);
@@ -642,6 +644,7 @@ export class Playground {
     const id = this.selected;
     if (!id) return;
     if (!this.guard(() => { this.world.removeObstacle(id); return true; })) return;
+    this.edited = true;
     this.scenario.obstacles = this.scenario.obstacles.filter((o) => o.id !== id);
     this.select(null);
     this.setStatus(`Deleted ${id}.`);
@@ -655,6 +658,7 @@ export class Playground {
   setShape(id, shape) {
     const ok = this.guard(() => { this.world.setObstacleShape(id, shape); return true; });
     if (!ok) return false;
+    this.edited = true;
     this.scenario.obstacles = this.scenario.obstacles.map((o) => (o.id === id ? { ...o, shape: clone(shape) } : o));
     return true;
   }
@@ -711,10 +715,13 @@ export class Playground {
     this.pendingSteps = 0;
     for (let i = 0; i < steps; i++) this.world.step(dt);
     const t1 = performance.now();
-    this.viewer.drawWorld(this.world);
+    // The viewer redraws only when something changed (a step, an edit, the camera).
+    const changed = steps > 0 || this.edited;
+    if (changed) this.viewer.drawWorld(this.world);
+    this.edited = false;
     this.viewer.render();
     const t2 = performance.now();
-    this.state = this.world.state();
+    if (changed) this.state = this.world.state();
     this.frames += 1;
 
     this.frameTimes.push(now);
@@ -755,8 +762,10 @@ export class Playground {
       if (joints.some((x) => x.d !== 0)) this.plots.dh.push(`d${i + 1}`, t, d);
     });
     Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
-    // Plots are redrawn at half the frame rate: enough to read, half the cost.
-    if (this.frames % 2 === 0) for (const key of this.shownPlots) this.plots[key].draw();
+    // Plots are redrawn at a quarter of the frame rate, one per frame in
+    // turn: enough to read, and 2D canvases cost the compositor dearly on
+    // software rendering.
+    if (this.shownPlots.length && this.frames % 4 < this.shownPlots.length) this.plots[this.shownPlots[this.frames % 4]].draw();
   }
 
   showEvents() {

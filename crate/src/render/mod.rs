@@ -612,23 +612,24 @@ impl Renderer {
             .upload(&self.device, &self.queue, bytemuck::cast_slice(&vertices));
     }
 
-    /// Draws the last uploaded scene and presents it.
+    /// Draws the last uploaded scene and presents it; `Ok(false)` when the
+    /// frame was skipped.
     ///
     /// A frame the browser is not ready for (timeout, occluded) is skipped
     /// silently; an outdated surface is reconfigured and the frame skipped.
     ///
     /// # Errors
     /// [`RenderError::Lost`] when the surface is lost for good.
-    pub fn render(&mut self) -> Result<(), RenderError> {
+    pub fn render(&mut self) -> Result<bool, RenderError> {
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(frame)
             | wgpu::CurrentSurfaceTexture::Suboptimal(frame) => frame,
             wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
-                return Ok(());
+                return Ok(false);
             }
             wgpu::CurrentSurfaceTexture::Outdated => {
                 self.surface.configure(&self.device, &self.config);
-                return Ok(());
+                return Ok(false);
             }
             wgpu::CurrentSurfaceTexture::Lost => return Err(RenderError::Lost("lost")),
             wgpu::CurrentSurfaceTexture::Validation => {
@@ -711,7 +712,7 @@ impl Renderer {
         }
         self.queue.submit([encoder.finish()]);
         self.queue.present(frame);
-        Ok(())
+        Ok(true)
     }
 }
 

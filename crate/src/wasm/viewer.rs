@@ -398,19 +398,24 @@ impl Viewer {
         Ok(())
     }
 
-    /// Draws one frame; call it from `requestAnimationFrame`.
+    /// Draws one frame when anything changed since the last one (the canvas
+    /// keeps its picture otherwise); call it from `requestAnimationFrame`.
     ///
     /// # Errors
     /// An `Error` when the drawing surface is lost for good.
     pub fn render(&mut self) -> Result<(), JsError> {
-        if self.dirty {
-            self.rebuild_scene();
-            self.renderer.update(&self.scene, &self.camera);
-            self.dirty = false;
+        if !self.dirty {
+            // The canvas keeps the last frame: nothing to draw.
+            return Ok(());
         }
-        self.renderer
+        self.rebuild_scene();
+        self.renderer.update(&self.scene, &self.camera);
+        let presented = self
+            .renderer
             .render()
-            .map_err(|e| JsError::new(&e.to_string()))
+            .map_err(|e| JsError::new(&e.to_string()))?;
+        self.dirty = !presented;
+        Ok(())
     }
 
     /// The picking ray through canvas pixel (`x`, `y`) (drawing-buffer
