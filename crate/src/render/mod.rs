@@ -183,7 +183,8 @@ pub struct Renderer {
     mesh_opaque: wgpu::RenderPipeline,
     mesh_blend: wgpu::RenderPipeline,
     solid_template: wgpu::Buffer,
-    solid_vertex_count: u32,
+    solid_indices: wgpu::Buffer,
+    solid_index_count: u32,
     line_template: wgpu::Buffer,
     solids: InstanceBuffer,
     lines: InstanceBuffer,
@@ -392,11 +393,19 @@ impl Renderer {
         let mesh_opaque = pipelines.mesh(false);
         let mesh_blend = pipelines.mesh(true);
 
-        let template = geometry::capsule_template();
+        let (template, template_indices) = geometry::capsule_template();
         let solid_template = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("capsule template"),
             contents: bytemuck::cast_slice(&template),
             usage: wgpu::BufferUsages::VERTEX,
+        });
+        // Padded to a multiple of 4 bytes, as buffer writes require.
+        let mut index_bytes: Vec<u8> = bytemuck::cast_slice(&template_indices).to_vec();
+        index_bytes.resize(index_bytes.len().next_multiple_of(4), 0);
+        let solid_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("capsule template indices"),
+            contents: &index_bytes,
+            usage: wgpu::BufferUsages::INDEX,
         });
         let line_template = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("line template"),
@@ -434,7 +443,8 @@ impl Renderer {
             mesh_opaque,
             mesh_blend,
             solid_template,
-            solid_vertex_count: template.len() as u32,
+            solid_indices,
+            solid_index_count: template_indices.len() as u32,
             line_template,
             solids,
             lines,
@@ -683,7 +693,8 @@ impl Renderer {
                 pass.set_pipeline(&self.solid_opaque);
                 pass.set_vertex_buffer(0, self.solid_template.slice(..));
                 pass.set_vertex_buffer(1, self.solids.buffer.slice(..));
-                pass.draw(0..self.solid_vertex_count, 0..self.opaque_count);
+                pass.set_index_buffer(self.solid_indices.slice(..), wgpu::IndexFormat::Uint16);
+                pass.draw_indexed(0..self.solid_index_count, 0, 0..self.opaque_count);
             }
             if self.mesh_opaque_count > 0 {
                 pass.set_pipeline(&self.mesh_opaque);
@@ -706,8 +717,13 @@ impl Renderer {
                 pass.set_pipeline(&self.solid_blend);
                 pass.set_vertex_buffer(0, self.solid_template.slice(..));
                 pass.set_vertex_buffer(1, self.solids.buffer.slice(..));
+                pass.set_index_buffer(self.solid_indices.slice(..), wgpu::IndexFormat::Uint16);
                 let start = self.opaque_count;
-                pass.draw(0..self.solid_vertex_count, start..start + self.blend_count);
+                pass.draw_indexed(
+                    0..self.solid_index_count,
+                    0,
+                    start..start + self.blend_count,
+                );
             }
         }
         self.queue.submit([encoder.finish()]);
