@@ -380,7 +380,14 @@ export class Playground {
         if (name) this.loadScenario(this.wasm.exampleScenario(name), `example ${name}`);
       });
     }
-    const initial = typeof scenario === 'string' ? this.wasm.exampleScenario(scenario) : scenario;
+    let initial = scenario;
+    if (typeof scenario === 'string') {
+      try {
+        initial = this.wasm.exampleScenario(scenario);
+      } catch (err) {
+        throw new Error(`${errorText(err)} (examples: ${this.wasm.exampleScenarioNames().join(', ')})`);
+      }
+    }
     const failure = this.loadScenario(initial, typeof scenario === 'string' ? `example ${scenario}` : 'scenario');
     if (failure) throw new Error(failure);
     let first;
@@ -444,6 +451,10 @@ export class Playground {
     this.afterRebuild();
     this.label = label;
     if (this.title) this.title.textContent = label;
+    if (this.panel) {
+      const name = label.startsWith('example ') ? label.slice('example '.length) : '';
+      this.panel.example.value = [...this.panel.example.options].some((o) => o.value === name) ? name : '';
+    }
     this.setStatus(`Loaded ${label}.`);
     this.errorBox.hidden = true;
     this.refreshPanel();
@@ -904,7 +915,7 @@ export class Playground {
       return;
     }
     const c = shapeCenter(shape);
-    const coords = c.map((x, k) => h('input', { type: 'number', step: '0.01', value: x.toFixed(3), 'aria-label': `position ${'xyz'[k]}`, id: `pos-${'xyz'[k]}`,
+    const coords = c.map((x, k) => h('input', { type: 'number', step: '0.01', value: x.toFixed(3), style: 'width: 4.6rem', 'aria-label': `position ${'xyz'[k]}`, id: `pos-${'xyz'[k]}`,
       onchange: (e) => {
         const v = Number(e.target.value);
         if (!Number.isFinite(v)) return;
