@@ -9,6 +9,7 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { spawnSync } from 'node:child_process';
 import { serve } from '../../scripts/serve.mjs';
 import { encodeShare } from '../../web/scenario-io.js';
 import { launch, collectErrors, frames } from './chromium.mjs';
@@ -212,6 +213,30 @@ test('a page embedding two widgets runs both', async () => {
     assert.deepEqual(errors, []);
   } finally {
     await browser.close();
+  }
+});
+
+test('npm run build: the static site in dist/ serves the docs page on its own', async () => {
+  const built = spawnSync(process.execPath, [path.join(repo, 'scripts', 'site.mjs'), '--no-wasm'], { cwd: repo, encoding: 'utf8' });
+  assert.equal(built.status, 0, built.stderr);
+  assert.match(built.stdout, /MB gzipped/);
+  const gz = Number(/, ([\d.]+) MB gzipped/.exec(built.stdout)[1]);
+  console.log(`# wasm gzipped: ${gz} MB`);
+  assert.ok(gz < 1.5, `wasm ${gz} MB gzipped`);
+  const site = await serve({ port: 0, root: 'dist' });
+  const browser = await launch({ webgpu: true });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await page.goto(`${site.url}docs.html`);
+    const n = await page.evaluate(() => Promise.all([...document.querySelectorAll('skeleton-playground')].map((e) => e.ready)).then((r) => r.length));
+    assert.equal(n, 3);
+    await page.waitForFunction(() => [...document.querySelectorAll('skeleton-playground')].every((e) => e.playground.snapshot().world.t > 0.1));
+    await page.screenshot({ path: path.join(artifacts, 'dist-docs-page.png'), fullPage: true });
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+    await new Promise((resolve) => site.server.close(resolve));
   }
 });
 
