@@ -758,7 +758,13 @@ export class Playground {
     const s = this.state;
     const t = s.t;
     this.plots.clearance.push('min', t, s.minClearance ?? NaN);
-    s.controlPoints.forEach((cp, i) => this.plots.clearance.push(`cp${i + 1}${cp.obstacle ? ` ${cp.obstacle}` : ''}`, t, cp.distance));
+    // One line per obstacle (and per control point on it), so colours stay with their obstacle.
+    const seen = new Map();
+    for (const cp of s.controlPoints) {
+      const k = (seen.get(cp.obstacle) ?? 0) + 1;
+      seen.set(cp.obstacle, k);
+      this.plots.clearance.push(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, t, cp.distance);
+    }
     const cp = s.controlPoints.find((c) => c.transitioning) ?? s.controlPoints[0];
     const joints = this.robotSpec?.joints ?? [];
     joints.forEach((j, i) => {
