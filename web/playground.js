@@ -183,6 +183,7 @@ const HELP = [
 
 const EVENT_TEXT = {
   segmentSwitch: 'control point switches segment',
+  transitionTooSlow: 'transition slower than the time to collision',
   transitionStart: 'transition starts',
   transitionEnd: 'transition ends',
   chattering: 'chattering detected',
@@ -491,14 +492,23 @@ export class Playground {
     this.notices.replaceChildren();
   }
 
-  /** The scene as a scenario: current obstacle shapes and (unless `keepQ0`) the current joints as `q0`. */
-  currentScenario({ keepQ0 = false } = {}) {
+  /**
+   * The scene as a scenario. By default it is the scene as it is now: the
+   * current joints become `q0` and every obstacle is where it is now (a
+   * moving one continues its motion from there). With `asEdited`, `q0` and
+   * the moving obstacles are those of the scenario as loaded and edited.
+   */
+  currentScenario({ keepQ0 = false, asEdited = keepQ0 } = {}) {
     const s = clone(this.scenario);
     const state = this.world.state();
     const shapes = new Map(state.obstacles.map((o) => [o.id, o.shape]));
     s.obstacles = (s.obstacles ?? []).map((o) => {
       const moving = o.motion && o.motion.type !== 'static';
-      return moving || !shapes.has(o.id) ? o : { ...o, shape: clone(shapes.get(o.id)) };
+      if (!shapes.has(o.id) || (moving && asEdited)) return o;
+      let shape = clone(shapes.get(o.id));
+      // A waypoint motion starts at its first point: start it from here.
+      if (moving && o.motion.type === 'waypoints' && isPoint(o.motion.points?.[0])) shape = translateShape(shape, mul(o.motion.points[0], -1));
+      return { ...o, shape };
     });
     if (!keepQ0) s.q0 = Array.from(state.q);
     return s;
@@ -751,7 +761,8 @@ export class Playground {
     };
     if (steps > 0) this.record();
     this.showEvents();
-    if (this.frames % 2 === 0 || !this.running) this.refreshHud();
+    // Text over the view is refreshed about six times a second (see above).
+    if (this.frames % 10 === 0 || (!this.running && changed)) this.refreshHud();
   }
 
   record() {
@@ -779,10 +790,10 @@ export class Playground {
       if (joints.some((x) => x.d !== 0)) this.plots.dh.push(`d${i + 1}`, t, d);
     });
     Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
-    // Plots are redrawn at a quarter of the frame rate, one per frame in
-    // turn: enough to read, and 2D canvases cost the compositor dearly on
-    // software rendering.
-    if (this.shownPlots.length && this.frames % 4 < this.shownPlots.length) this.plots[this.shownPlots[this.frames % 4]].draw();
+    // One plot is redrawn every fourth frame, in turn: enough to read, and
+    // every changed canvas or text over the 3D view costs the compositor
+    // dearly on software rendering.
+    if (this.shownPlots.length && this.frames % 4 === 0) this.plots[this.shownPlots[(this.frames / 4) % this.shownPlots.length]].draw();
   }
 
   showEvents() {

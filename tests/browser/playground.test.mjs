@@ -96,8 +96,10 @@ for (const backend of ['webgpu', 'webgl2']) {
       assert.ok(Math.hypot(moved[0] - target[0], moved[1] - target[1]) < 0.03, `ball dropped at ${moved}, wanted ${target}`);
       assert.ok(Math.abs(moved[2]) < 1e-9, 'the top view drags in the arm plane');
 
-      // Let the controller react.
-      await page.waitForFunction(() => window.playground.state().world.t > 0.8 + 0, null, { timeout: 20000 });
+      // Let the controller react, then pause to compare the state with the picture.
+      await page.waitForFunction(() => window.playground.state().world.t > 0.8, null, { timeout: 20000 });
+      await page.locator('#run').click();
+      await frames(page, 3);
       const s2 = await state(page);
       assert.ok(s2.world.controlPoints.length > 0, 'a control point appears');
       const cp = s2.world.controlPoints[0];

@@ -180,6 +180,7 @@ pub struct Renderer {
     solid_opaque: wgpu::RenderPipeline,
     solid_blend: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
+    line_opaque: wgpu::RenderPipeline,
     mesh_opaque: wgpu::RenderPipeline,
     mesh_blend: wgpu::RenderPipeline,
     solid_template: wgpu::Buffer,
@@ -194,6 +195,7 @@ pub struct Renderer {
     opaque_count: u32,
     blend_count: u32,
     line_count: u32,
+    line_opaque_count: u32,
     background: wgpu::Color,
     encode_srgb: bool,
     globals: Globals,
@@ -389,7 +391,8 @@ impl Renderer {
         };
         let solid_opaque = pipelines.solid(false);
         let solid_blend = pipelines.solid(true);
-        let line_pipeline = pipelines.lines();
+        let line_pipeline = pipelines.lines(true);
+        let line_opaque = pipelines.lines(false);
         let mesh_opaque = pipelines.mesh(false);
         let mesh_blend = pipelines.mesh(true);
 
@@ -440,6 +443,7 @@ impl Renderer {
             solid_opaque,
             solid_blend,
             line_pipeline,
+            line_opaque,
             mesh_opaque,
             mesh_blend,
             solid_template,
@@ -454,6 +458,7 @@ impl Renderer {
             opaque_count: 0,
             blend_count: 0,
             line_count: 0,
+            line_opaque_count: 0,
             background: wgpu::Color::WHITE,
             encode_srgb,
             globals,
@@ -587,6 +592,11 @@ impl Renderer {
                 .chain(&l.color)
                 .all(|x| x.is_finite())
         });
+        // Opaque lines first: they are drawn without blending (cheaper).
+        let (mut lines, blended): (Vec<_>, Vec<_>) =
+            lines.into_iter().partition(|l| l.color[3] >= 1.0);
+        self.line_opaque_count = lines.len() as u32;
+        lines.extend(blended);
         self.line_count = lines.len() as u32;
         self.lines
             .upload(&self.device, &self.queue, bytemuck::cast_slice(&lines));
@@ -701,11 +711,17 @@ impl Renderer {
                 pass.set_vertex_buffer(0, self.mesh.buffer.slice(..));
                 pass.draw(0..self.mesh_opaque_count, 0..1);
             }
-            if self.line_count > 0 {
+            if self.line_opaque_count > 0 {
+                pass.set_pipeline(&self.line_opaque);
+                pass.set_vertex_buffer(0, self.line_template.slice(..));
+                pass.set_vertex_buffer(1, self.lines.buffer.slice(..));
+                pass.draw(0..6, 0..self.line_opaque_count);
+            }
+            if self.line_count > self.line_opaque_count {
                 pass.set_pipeline(&self.line_pipeline);
                 pass.set_vertex_buffer(0, self.line_template.slice(..));
                 pass.set_vertex_buffer(1, self.lines.buffer.slice(..));
-                pass.draw(0..6, 0..self.line_count);
+                pass.draw(0..6, self.line_opaque_count..self.line_count);
             }
             if self.mesh_blend_count > 0 {
                 pass.set_pipeline(&self.mesh_blend);
@@ -787,7 +803,7 @@ impl Pipelines<'_> {
         )
     }
 
-    fn lines(&self) -> wgpu::RenderPipeline {
+    fn lines(&self, blend: bool) -> wgpu::RenderPipeline {
         let template = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<LineVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -799,12 +815,12 @@ impl Pipelines<'_> {
             attributes: &wgpu::vertex_attr_array![1 => Float32x4, 2 => Float32x4, 3 => Float32x4],
         };
         self.build(
-            "lines",
+            if blend { "lines" } else { "opaque lines" },
             ("vs_line", "fs_line"),
             &[Some(template), Some(instance)],
             None,
             false,
-            true,
+            blend,
         )
     }
 
