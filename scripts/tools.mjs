@@ -26,7 +26,7 @@ function versionOf(cmd) {
 
 function ensureRust() {
   if (versionOf('cargo') === null) {
-    fail('cargo (Rust) is not installed.', ['curl --proto =https -sSf https://sh.rustup.rs | sh', '(or your distribution\'s rustup package)']);
+    fail('cargo (Rust) is not installed.', ["curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh", '(or your distribution\'s rustup package)']);
   }
   const installed = capture('rustup', ['target', 'list', '--installed']);
   if (installed.status === 127) {
