@@ -181,6 +181,9 @@ const HELP = [
   ['?', 'this help'],
 ];
 
+/** Frames between refreshes of the plots and the text over the view. */
+const REFRESH_EVERY = 10;
+
 const EVENT_TEXT = {
   segmentSwitch: 'control point switches segment',
   transitionTooSlow: 'transition slower than the time to collision',
@@ -761,8 +764,13 @@ export class Playground {
     };
     if (steps > 0) this.record();
     this.showEvents();
-    // Text over the view is refreshed about six times a second (see above).
-    if (this.frames % 10 === 0 || (!this.running && changed)) this.refreshHud();
+    // Plots and the text over the view are refreshed together, six times a
+    // second: enough to read, and on software rendering every frame in
+    // which anything but the 3D canvas changes costs a full composite.
+    if (this.frames % REFRESH_EVERY === 0 || (!this.running && changed)) {
+      for (const key of this.shownPlots) this.plots[key].draw();
+      this.refreshHud();
+    }
   }
 
   record() {
@@ -790,10 +798,7 @@ export class Playground {
       if (joints.some((x) => x.d !== 0)) this.plots.dh.push(`d${i + 1}`, t, d);
     });
     Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
-    // One plot is redrawn every fourth frame, in turn: enough to read, and
-    // every changed canvas or text over the 3D view costs the compositor
-    // dearly on software rendering.
-    if (this.shownPlots.length && this.frames % 4 === 0) this.plots[this.shownPlots[(this.frames / 4) % this.shownPlots.length]].draw();
+
   }
 
   showEvents() {

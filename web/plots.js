@@ -56,7 +56,9 @@ export class TimePlot {
     const w = Math.max(1, Math.round(canvas.clientWidth * dpr));
     const h = Math.max(1, Math.round(canvas.clientHeight * dpr));
     if (canvas.width !== w || canvas.height !== h) Object.assign(canvas, { width: w, height: h });
-    const ctx = canvas.getContext('2d');
+    // A CPU canvas: plots are small, and a GPU-backed 2D canvas is far
+    // slower than the CPU one where the GPU is emulated in software.
+    const ctx = canvas.getContext('2d', { willReadFrequently: true });
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     const W = w / dpr;
     const H = h / dpr;

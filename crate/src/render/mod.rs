@@ -181,6 +181,7 @@ pub struct Renderer {
     solid_blend: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
     line_opaque: wgpu::RenderPipeline,
+    hair_pipeline: wgpu::RenderPipeline,
     mesh_opaque: wgpu::RenderPipeline,
     mesh_blend: wgpu::RenderPipeline,
     solid_template: wgpu::Buffer,
@@ -190,6 +191,8 @@ pub struct Renderer {
     solids: InstanceBuffer,
     lines: InstanceBuffer,
     mesh: InstanceBuffer,
+    hair: InstanceBuffer,
+    hair_count: u32,
     mesh_opaque_count: u32,
     mesh_blend_count: u32,
     opaque_count: u32,
@@ -393,6 +396,7 @@ impl Renderer {
         let solid_blend = pipelines.solid(true);
         let line_pipeline = pipelines.lines(true);
         let line_opaque = pipelines.lines(false);
+        let hair_pipeline = pipelines.hairlines();
         let mesh_opaque = pipelines.mesh(false);
         let mesh_blend = pipelines.mesh(true);
 
@@ -426,6 +430,11 @@ impl Renderer {
             std::mem::size_of::<LineInstance>(),
         );
         let mesh = InstanceBuffer::new(&device, "mesh vertices", std::mem::size_of::<MeshVertex>());
+        let hair = InstanceBuffer::new(
+            &device,
+            "hairline vertices",
+            std::mem::size_of::<MeshVertex>(),
+        );
         let (depth_view, msaa_view) = attachments(&device, &config, sample_count);
 
         Ok(Self {
@@ -444,6 +453,7 @@ impl Renderer {
             solid_blend,
             line_pipeline,
             line_opaque,
+            hair_pipeline,
             mesh_opaque,
             mesh_blend,
             solid_template,
@@ -453,6 +463,8 @@ impl Renderer {
             solids,
             lines,
             mesh,
+            hair,
+            hair_count: 0,
             mesh_opaque_count: 0,
             mesh_blend_count: 0,
             opaque_count: 0,
@@ -577,9 +589,15 @@ impl Renderer {
             .upload(&self.device, &self.queue, bytemuck::cast_slice(&instances));
 
         let mut lines: Vec<LineInstance> = Vec::with_capacity(scene.lines.len() + 64);
+        // The grid is drawn as one-pixel hairlines: rasterised far faster
+        // than long thin quads, notably by software rasterisers.
+        let mut hair: Vec<MeshVertex> = Vec::new();
         if let Some(grid) = scene.grid {
-            push_grid(&mut lines, &grid);
+            push_grid(&mut hair, &grid);
         }
+        self.hair_count = hair.len() as u32;
+        self.hair
+            .upload(&self.device, &self.queue, bytemuck::cast_slice(&hair));
         lines.extend(scene.lines.iter().map(|l| LineInstance {
             p0_width: [l.a[0], l.a[1], l.a[2], l.width.max(0.0)],
             p1: [l.b[0], l.b[1], l.b[2], 0.0],
@@ -711,6 +729,11 @@ impl Renderer {
                 pass.set_vertex_buffer(0, self.mesh.buffer.slice(..));
                 pass.draw(0..self.mesh_opaque_count, 0..1);
             }
+            if self.hair_count > 0 {
+                pass.set_pipeline(&self.hair_pipeline);
+                pass.set_vertex_buffer(0, self.hair.buffer.slice(..));
+                pass.draw(0..self.hair_count, 0..1);
+            }
             if self.line_opaque_count > 0 {
                 pass.set_pipeline(&self.line_opaque);
                 pass.set_vertex_buffer(0, self.line_template.slice(..));
@@ -833,6 +856,41 @@ impl Pipelines<'_> {
         depth_write: bool,
         blend: bool,
     ) -> wgpu::RenderPipeline {
+        self.build_with(
+            label,
+            (vs, fs),
+            buffers,
+            (wgpu::PrimitiveTopology::TriangleList, cull_mode),
+            depth_write,
+            blend,
+        )
+    }
+
+    fn hairlines(&self) -> wgpu::RenderPipeline {
+        let vertex = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<MeshVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
+        };
+        self.build_with(
+            "hairlines",
+            ("vs_mesh", "fs_hair"),
+            &[Some(vertex)],
+            (wgpu::PrimitiveTopology::LineList, None),
+            false,
+            false,
+        )
+    }
+
+    fn build_with(
+        &self,
+        label: &str,
+        (vs, fs): (&str, &str),
+        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+        (topology, cull_mode): (wgpu::PrimitiveTopology, Option<wgpu::Face>),
+        depth_write: bool,
+        blend: bool,
+    ) -> wgpu::RenderPipeline {
         self.device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
@@ -844,7 +902,7 @@ impl Pipelines<'_> {
                     buffers,
                 },
                 primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    topology,
                     front_face: wgpu::FrontFace::Ccw,
                     cull_mode,
                     ..wgpu::PrimitiveState::default()
@@ -906,7 +964,7 @@ fn attachments(
 }
 
 /// Adds the lines of `grid` (the two through the origin in the axis colour).
-fn push_grid(lines: &mut Vec<LineInstance>, grid: &Grid) {
+fn push_grid(lines: &mut Vec<MeshVertex>, grid: &Grid) {
     if !(grid.spacing.is_finite() && grid.half_extent.is_finite())
         || grid.spacing <= 0.0
         || grid.half_extent <= 0.0
@@ -919,11 +977,13 @@ fn push_grid(lines: &mut Vec<LineInstance>, grid: &Grid) {
         let t = i as f32 * grid.spacing;
         let color = if i == 0 { grid.axis_color } else { grid.color };
         for (a, b) in [([t, -h, 0.0], [t, h, 0.0]), ([-h, t, 0.0], [h, t, 0.0])] {
-            lines.push(LineInstance {
-                p0_width: [a[0], a[1], a[2], 1.0],
-                p1: [b[0], b[1], b[2], 0.0],
-                color,
-            });
+            for position in [a, b] {
+                lines.push(MeshVertex {
+                    position,
+                    normal: [0.0, 0.0, 1.0],
+                    color,
+                });
+            }
         }
     }
 }

@@ -165,3 +165,10 @@ fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
     let light = 0.35 + 0.4 * key + 0.3 * head;
     return vec4<f32>(encode(in.color.rgb * light), in.color.a);
 }
+
+// ---- Hairlines (the ground grid): one pixel wide, unlit ----
+
+@fragment
+fn fs_hair(in: MeshOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(encode(in.color.rgb), in.color.a);
+}
