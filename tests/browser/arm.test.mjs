@@ -91,6 +91,7 @@ for (const backend of ['webgpu', 'webgl2']) {
 
       // Real input: click three quarters along the first joint's initial-pose slider (≈ +π/2).
       const slider = page.locator('#joint-0');
+      await slider.scrollIntoViewIfNeeded();
       const sb = await slider.boundingBox();
       await page.mouse.click(sb.x + 0.75 * sb.width, sb.y + sb.height / 2);
       await frames(page, 3);
