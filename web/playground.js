@@ -434,14 +434,20 @@ export class Playground {
   loadScenario(scenario, label = 'scenario') {
     let world;
     let spec;
+    let robotSet = false;
     try {
       if (scenario === null || typeof scenario !== 'object' || Array.isArray(scenario)) throw new Error('expected a scenario object');
       world = new this.wasm.World(scenario);
       spec = this.robotSpecOf(scenario.robot);
+      robotSet = true;
       this.viewer.setRobot(spec);
     } catch (err) {
       world?.free();
-      if (this.scenario) this.guard(() => this.viewer.setRobot(this.robotSpec));
+      if (this.scenario && robotSet) {
+        // Back to the current robot and its world in the view.
+        this.guard(() => this.viewer.setRobot(this.robotSpec));
+        this.edited = true;
+      }
       const message = `The ${label} could not be loaded; the current scene is unchanged.\n${errorText(err)}`;
       this.showError(message);
       return message;

@@ -259,6 +259,7 @@ test('a malformed scenario file or link shows a readable message and keeps the s
       const now = await state(page);
       assert.deepEqual(now.world.obstacles, before.world.obstacles, 'obstacles untouched');
       assert.equal(now.dof, before.dof);
+      assert.deepEqual(now.screenNodes, before.screenNodes, 'the view still shows the same arm');
       await page.evaluate(() => { window.playground.app.errorBox.hidden = true; });
     };
     // A link cut short / edited.
