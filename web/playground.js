@@ -445,8 +445,7 @@ export class Playground {
       world?.free();
       if (this.scenario && robotSet) {
         // Back to the current robot and its world in the view.
-        this.guard(() => this.viewer.setRobot(this.robotSpec));
-        this.edited = true;
+        this.guard(() => { this.viewer.setRobot(this.robotSpec); this.viewer.drawWorld(this.world); });
       }
       const message = `The ${label} could not be loaded; the current scene is unchanged.\n${errorText(err)}`;
       this.showError(message);
