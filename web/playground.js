@@ -365,6 +365,9 @@ export class Playground {
   /** Loads the wasm, starts the viewer on `scenario` (an object or an example name). */
   async start(scenario) {
     this.wasm = await loadWasm();
+    if (typeof this.wasm.World !== 'function') {
+      throw new Error('This build of the library has no simulation (World): the page needs the avoidance module.');
+    }
     const backend = this.options.backend ?? 'auto';
     const antialias = this.options.antialias ?? (backend !== 'webgl2' && (await softwareWebGpu()) ? false : undefined);
     this.viewer = await this.wasm.Viewer.create(this.canvas, { backend, view: this.options.view ?? 'auto', antialias });
@@ -445,7 +448,7 @@ export class Playground {
       world?.free();
       if (this.scenario && robotSet) {
         // Back to the current robot and its world in the view.
-        this.guard(() => { this.viewer.setRobot(this.robotSpec); this.viewer.drawWorld(this.world); });
+        this.guard(() => { this.viewer.setRobot(this.robotSpec); this.drawWorld(); });
       }
       const message = `The ${label} could not be loaded; the current scene is unchanged.\n${errorText(err)}`;
       this.showError(message);
@@ -495,7 +498,7 @@ export class Playground {
     this.seenEvents = 0;
     for (const plot of Object.values(this.plots)) plot.clear();
     this.state = this.world.state();
-    this.viewer.drawWorld(this.world);
+    this.drawWorld();
     this.edited = true;
     this.notices.replaceChildren();
   }
@@ -707,6 +710,15 @@ export class Playground {
 
   // ---- simulation ----
 
+  /**
+   * Hands the world to the viewer: `drawWorld` reads it in Rust; a build
+   * without it gets the state object read this frame (`drawState`).
+   */
+  drawWorld() {
+    if (typeof this.viewer.drawWorld === 'function') this.viewer.drawWorld(this.world);
+    else this.viewer.drawState(this.state ?? this.world.state());
+  }
+
   toggleRun() {
     this.running = !this.running;
     if (this.playButton) this.playButton.textContent = this.running ? 'Pause' : 'Run';
@@ -746,11 +758,13 @@ export class Playground {
     const t1 = performance.now();
     // The viewer redraws only when something changed (a step, an edit, the camera).
     const changed = steps > 0 || this.edited;
-    if (changed) this.viewer.drawWorld(this.world);
+    if (changed) {
+      this.state = this.world.state();
+      this.drawWorld();
+    }
     this.edited = false;
     this.viewer.render();
     const t2 = performance.now();
-    if (changed) this.state = this.world.state();
     this.frames += 1;
 
     this.frameTimes.push(now);
