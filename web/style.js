@@ -43,6 +43,9 @@ kbd { font: 11px ui-monospace, monospace; border: 1px solid #c9ced8; border-bott
 .bar .title { flex: 1; color: #556; font-size: 12px; overflow: hidden; text-overflow: ellipsis; white-space: nowrap; }
 .hint { color: #667; font-size: 11px; }
 .sp.minimal .plots, .sp.none .plots { display: none; }
+.sp.minimal .hud, .sp.none .hud { font-size: 10px; padding: 0.1rem 0.35rem; opacity: 0.9; }
+.sp.minimal .notice, .sp.none .notice { font-size: 10px; padding: 0.05rem 0.35rem; }
+.sp.minimal .notice:nth-last-child(n+3), .sp.none .notice:nth-last-child(n+3) { display: none; }
 .sp.minimal:not(.with-stats) .stats, .sp.none:not(.with-stats) .stats { display: none; }
 .sp.minimal.with-plot .plots { display: grid; grid-template-columns: 1fr; height: 8rem; }
 `;
