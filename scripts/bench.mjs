@@ -4,6 +4,7 @@
 import fs from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
+import { spawnSync } from 'node:child_process';
 import { repo, run } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
@@ -13,8 +14,9 @@ const benches = fs
   .filter((f) => f.endsWith('.rs'))
   .map((f) => f.slice(0, -3));
 
+const quick = process.argv.includes('--wasm-only'); // reuse the last native run
 if (!ensureTools()) process.exit(1);
-for (const b of benches) {
+for (const b of quick ? [] : benches) {
   console.log(`\n=== cargo bench --bench ${b}`);
   if (run('cargo', ['bench', '-p', 'skeleton-avoidance', '--bench', b]) !== 0) process.exit(1);
 }
@@ -23,36 +25,60 @@ if (buildWasm('node') !== 0) process.exit(1);
 const require = createRequire(import.meta.url);
 const sa = require(path.join(repo, 'crate', 'pkg-node', 'skeleton_avoidance.js'));
 
-/** Median criterion estimate (ns) of a benchmark id such as "kinematics_step/lwr4". */
-function nativeMedian(id) {
-  const file = path.join(repo, 'target', 'criterion', ...id.split('/'), 'new', 'estimates.json');
-  return JSON.parse(fs.readFileSync(file, 'utf8')).median.point_estimate;
+/** One native round: the bench binary's batch mode, `{ id: ns }`. */
+function nativeRound() {
+  const r = spawnSync('cargo', ['bench', '-q', '-p', 'skeleton-avoidance', '--bench', 'kinematics'], {
+    cwd: repo,
+    encoding: 'utf8',
+    env: { ...process.env, SA_BATCH_ROUND: '1' },
+  });
+  if (r.status !== 0) throw new Error(`native round failed: ${r.stderr}`);
+  return Object.fromEntries(
+    r.stdout.split('\n').filter((l) => l.startsWith('kinematics_step/')).map((l) => {
+      const [id, ns] = l.trim().split(/\s+/);
+      return [id, Number(ns)];
+    }),
+  );
 }
 
-/** Median ns per iteration of `fn(batch)` over `samples` timed batches. */
-function wasmMedian(fn, { batch = 2000, samples = 41 } = {}) {
-  fn(batch); // warm-up (compilation tiers)
-  fn(batch);
-  const per = [];
-  for (let s = 0; s < samples; s++) {
-    const t0 = process.hrtime.bigint();
-    fn(batch);
-    per.push(Number(process.hrtime.bigint() - t0) / batch);
+/** One wasm round: the same batches inside wasm, timed from Node. */
+function wasmRound() {
+  const out = {};
+  for (const name of ['lwr4', 'panda', 'dual-arm']) {
+    const batch = 2000;
+    sa.benchKinematicsStep(name, 2 * batch); // warm-up (compilation tiers)
+    const per = [];
+    for (let s = 0; s < 15; s++) {
+      const t0 = process.hrtime.bigint();
+      sa.benchKinematicsStep(name, batch);
+      per.push(Number(process.hrtime.bigint() - t0) / batch);
+    }
+    per.sort((a, b) => a - b);
+    out[`kinematics_step/${name}`] = per[Math.floor(per.length / 2)];
   }
-  per.sort((a, b) => a - b);
-  return per[Math.floor(per.length / 2)];
+  return out;
 }
 
-const rows = [];
-for (const name of ['lwr4', 'panda', 'dual-arm']) {
-  const id = `kinematics_step/${name}`;
-  const native = nativeMedian(id);
-  const wasm = wasmMedian((n) => sa.benchKinematicsStep(name, n));
-  rows.push({ id, native, wasm, goal: name === 'lwr4' ? 'native ≤ 2000 ns, wasm/native ≤ 1.5' : '' });
+const median = (xs) => xs.slice().sort((a, b) => a - b)[Math.floor(xs.length / 2)];
+
+// Alternate native and wasm rounds so that both see the same machine load.
+const rounds = { native: {}, wasm: {} };
+for (let k = 0; k < 7; k++) {
+  for (const [kind, fn] of [['native', nativeRound], ['wasm', wasmRound]]) {
+    for (const [id, ns] of Object.entries(fn())) (rounds[kind][id] ??= []).push(ns);
+  }
 }
+const rows = Object.keys(rounds.native).map((id) => ({
+  id,
+  native: median(rounds.native[id]),
+  wasm: median(rounds.wasm[id]),
+  ratios: rounds.native[id].map((n, k) => rounds.wasm[id][k] / n),
+  goal: id.endsWith('/lwr4') ? 'native ≤ 2000 ns, wasm/native ≤ 1.5' : '',
+}));
 
 console.log('\n=== FK + skeleton + 8 control-point Jacobians (J_θ, J_a, J_d), median per step');
+console.log('(7 alternating native/wasm rounds of 15 batches × 2000 steps; medians; ratio = median of per-round ratios)');
 console.log(`${'workload'.padEnd(26)} ${'native ns'.padStart(10)} ${'wasm ns'.padStart(10)} ${'wasm/native'.padStart(12)}  goal`);
 for (const r of rows) {
-  console.log(`${r.id.padEnd(26)} ${r.native.toFixed(0).padStart(10)} ${r.wasm.toFixed(0).padStart(10)} ${(r.wasm / r.native).toFixed(2).padStart(12)}  ${r.goal}`);
+  console.log(`${r.id.padEnd(26)} ${r.native.toFixed(0).padStart(10)} ${r.wasm.toFixed(0).padStart(10)} ${median(r.ratios).toFixed(2).padStart(12)}  ${r.goal}`);
 }

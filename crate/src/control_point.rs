@@ -128,23 +128,13 @@ impl DhPoint {
         Ok(())
     }
 
-    /// World position of the point (no validation: `link` must be in range).
+    /// World position of the point (no validation: `link` must be in range):
+    /// the row's start plus `a'` along its `a` direction plus `d'` along its
+    /// `d` direction, in either convention.
     #[must_use]
-    pub fn position(&self, robot: &Robot, frames: &Frames) -> DVec3 {
+    pub fn position(&self, _robot: &Robot, frames: &Frames) -> DVec3 {
         let i = self.link - 1;
-        let s = &frames.starts[i];
-        match robot.convention {
-            Convention::Standard => {
-                s.translation
-                    + self.d * s.matrix3.z_axis
-                    + self.a * frames.transforms[i + 1].matrix3.x_axis
-            }
-            Convention::Modified => {
-                s.translation
-                    + self.a * s.matrix3.x_axis
-                    + self.d * frames.transforms[i + 1].matrix3.z_axis
-            }
-        }
+        frames.starts[i].translation + self.a * frames.a_direction[i] + self.d * frames.axis[i]
     }
 
     /// The point on the skeleton: segment index and fraction along it, or
@@ -258,45 +248,40 @@ impl DhPoint {
     }
 
     /// [`DhPoint::jacobians`] into existing storage (no allocation once `out`
-    /// has the right size).
+    /// has the right size). Each column is read from the per-row axes of the
+    /// [`Frames`] pass: one cross product per revolute ancestor.
     pub fn jacobians_into(&self, robot: &Robot, frames: &Frames, out: &mut PointJacobians) {
         let n = robot.dof();
         let p = self.position(robot, frames);
         out.position = p;
         for v in [&mut out.j_theta, &mut out.j_a, &mut out.j_d] {
-            v.clear();
-            v.resize(n, DVec3::ZERO);
+            if v.len() == n {
+                v.fill(DVec3::ZERO);
+            } else {
+                v.clear();
+                v.resize(n, DVec3::ZERO);
+            }
         }
-        let mut k = self.link;
+        let own = self.link - 1;
+        // The point's own row: its joint value is replaced by the cut
+        // (prismatic), or its axis passes through the point (modified).
+        out.j_a[own] = frames.a_direction[own];
+        out.j_d[own] = frames.axis[own];
+        if robot.convention == Convention::Standard && robot.joints[own].kind == JointType::Revolute
+        {
+            out.j_theta[own] = frames.axis[own].cross(p - frames.axis_point[own]);
+        }
+        let mut k = robot.joints[own].parent;
         while k >= 1 {
             let i = k - 1;
-            let joint = &robot.joints[i];
-            let s = &frames.starts[i];
-            let f = &frames.transforms[k];
-            let own = k == self.link;
-            match robot.convention {
-                Convention::Standard => {
-                    let z = s.matrix3.z_axis;
-                    out.j_theta[i] = match joint.kind {
-                        JointType::Revolute => z.cross(p - s.translation),
-                        JointType::Prismatic if own => DVec3::ZERO,
-                        JointType::Prismatic => z,
-                    };
-                    out.j_a[i] = f.matrix3.x_axis;
-                    out.j_d[i] = z;
-                }
-                Convention::Modified => {
-                    let z = f.matrix3.z_axis;
-                    out.j_theta[i] = match joint.kind {
-                        _ if own => DVec3::ZERO,
-                        JointType::Revolute => z.cross(p - frames.mids[i]),
-                        JointType::Prismatic => z,
-                    };
-                    out.j_a[i] = s.matrix3.x_axis;
-                    out.j_d[i] = z;
-                }
-            }
-            k = joint.parent;
+            let u = frames.axis[i];
+            out.j_theta[i] = match robot.joints[i].kind {
+                JointType::Revolute => u.cross(p - frames.axis_point[i]),
+                JointType::Prismatic => u,
+            };
+            out.j_a[i] = frames.a_direction[i];
+            out.j_d[i] = u;
+            k = robot.joints[i].parent;
         }
     }
 

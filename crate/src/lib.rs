@@ -42,6 +42,7 @@ pub mod control_point;
 pub mod distance;
 pub mod error;
 pub mod kinematics;
+pub mod math;
 pub mod rng;
 pub mod skeleton;
 pub mod workloads;

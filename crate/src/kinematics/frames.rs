@@ -21,6 +21,15 @@ pub struct Frames {
     pub mids: Vec<DVec3>,
     /// Per row: the effective `d` (with the joint value of a prismatic joint).
     pub d: Vec<f64>,
+    /// Per row: the joint axis, which is also the direction of the row's `d`
+    /// translation (`∂p/∂d`): `z_{i-1}` (standard) or `z_i` (modified).
+    pub axis: Vec<DVec3>,
+    /// Per row: a point on the joint axis: the row's start (standard) or the
+    /// point after its `a` translation (modified).
+    pub axis_point: Vec<DVec3>,
+    /// Per row: the direction of the row's `a` translation (`∂p/∂a`): `x_i`
+    /// (standard) or `x_{i-1}` (modified).
+    pub a_direction: Vec<DVec3>,
     /// Per chain: last frame times the tool transform.
     pub end_effectors: Vec<DAffine3>,
     /// Angular velocity of each frame (rad/s), index 0..=n; empty without `q̇`.
@@ -64,6 +73,9 @@ impl Frames {
         self.starts.clear();
         self.mids.clear();
         self.d.clear();
+        self.axis.clear();
+        self.axis_point.clear();
+        self.a_direction.clear();
         self.end_effectors.clear();
         self.omega.clear();
         self.velocity.clear();
@@ -88,13 +100,13 @@ impl Frames {
                 JointType::Revolute => (joint.theta + q[i], joint.d),
                 JointType::Prismatic => (joint.theta, joint.d + q[i]),
             };
-            let (st, ct) = theta.sin_cos();
+            let (st, ct) = crate::math::sin_cos(theta);
             if self.alpha_memo.len() <= i {
                 self.alpha_memo.push((f64::NAN, 0.0, 0.0));
             }
             let memo = &mut self.alpha_memo[i];
             if memo.0.to_bits() != joint.alpha.to_bits() {
-                let (s, c) = joint.alpha.sin_cos();
+                let (s, c) = crate::math::sin_cos(joint.alpha);
                 *memo = (joint.alpha, s, c);
             }
             let (sa, ca) = (memo.1, memo.2);
@@ -150,6 +162,18 @@ impl Frames {
             self.starts.push(start);
             self.mids.push(mid);
             self.d.push(d);
+            match robot.convention {
+                Convention::Standard => {
+                    self.axis.push(zs);
+                    self.axis_point.push(o0);
+                    self.a_direction.push(x);
+                }
+                Convention::Modified => {
+                    self.axis.push(z);
+                    self.axis_point.push(mid);
+                    self.a_direction.push(xs);
+                }
+            }
             self.transforms.push(frame);
         }
         for chain in &robot.chains {

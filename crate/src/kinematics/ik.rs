@@ -131,7 +131,7 @@ pub fn symmetric_eigen(a: &Mat) -> (Vec<f64>, Mat) {
         let mut off = 0.0;
         for p in 0..n {
             for q in p + 1..n {
-                off += m.get(p, q).powi(2);
+                off += m.get(p, q) * m.get(p, q);
             }
         }
         if off < 1e-30 {
@@ -228,7 +228,8 @@ pub fn dls_inverse(jac: &Mat, weights: &[f64], damping: Damping) -> DlsInverse {
         if sigma >= damping.epsilon {
             0.0
         } else {
-            (1.0 - (sigma / damping.epsilon).powi(2)) * damping.lambda_max.powi(2)
+            let ratio = sigma / damping.epsilon;
+            (1.0 - ratio * ratio) * damping.lambda_max * damping.lambda_max
         }
     };
     let smallest = eig.iter().copied().fold(f64::INFINITY, f64::min).max(0.0);

@@ -232,6 +232,7 @@ pub fn robot(value: JsValue) -> Result<Robot, JsError> {
 }
 
 /// `x` when finite, else an `Error` naming `field`.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 pub fn finite_arg(field: &str, x: f64) -> Result<f64, JsError> {
     crate::error::finite(field, x).map_err(|e| js_error(&e))
 }
