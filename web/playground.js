@@ -683,7 +683,7 @@ export class Playground {
   }
 
   shapeOf(id) {
-    return this.world.state().obstacles.find((o) => o.id === id)?.shape;
+    return this.world.state(this.world.eventCount).obstacles.find((o) => o.id === id)?.shape;
   }
 
   /** Replaces the shape of obstacle `id`; returns false (message shown) on error. */
@@ -754,12 +754,15 @@ export class Playground {
       steps = this.pendingSteps;
     }
     this.pendingSteps = 0;
-    for (let i = 0; i < steps; i++) this.world.step(dt);
+    // One call per frame where the binding offers it.
+    if (steps > 0 && typeof this.world.advance === 'function') this.world.advance(dt, steps);
+    else for (let i = 0; i < steps; i++) this.world.step(dt);
     const t1 = performance.now();
     // The viewer redraws only when something changed (a step, an edit, the camera).
     const changed = steps > 0 || this.edited;
     if (changed) {
-      this.state = this.world.state();
+      // Only the events not shown yet are copied out.
+      this.state = this.world.state(this.seenEvents);
       this.drawWorld();
     }
     this.edited = false;
@@ -782,7 +785,7 @@ export class Playground {
       backend: this.backend,
     };
     if (steps > 0) this.record();
-    this.showEvents();
+    if (changed) this.showEvents();
     // Plots and the text over the view are refreshed together, six times a
     // second: enough to read, and on software rendering every frame in
     // which anything but the 3D canvas changes costs a full composite.
@@ -821,16 +824,19 @@ export class Playground {
   }
 
   showEvents() {
-    const events = this.state.events ?? [];
-    if (events.length < this.seenEvents) this.seenEvents = 0;
-    for (const e of events.slice(this.seenEvents)) {
+    // `state(since)` returns the events from index `since` on (a binding
+    // without the cursor returns them all).
+    let events = this.state.events ?? [];
+    const total = typeof this.world.eventCount === 'number' ? this.world.eventCount : events.length;
+    if (events.length === total) events = events.slice(this.seenEvents);
+    for (const e of events) {
       const text = `t = ${Number(e.t).toFixed(3)} s · ${EVENT_TEXT[e.kind] ?? e.kind}`;
       const note = h('div', { class: `notice ${e.kind}` }, text);
       this.notices.append(note);
       while (this.notices.children.length > 4) this.notices.firstChild.remove();
       setTimeout(() => note.remove(), e.kind === 'stop' ? 8000 : 3500);
     }
-    this.seenEvents = events.length;
+    this.seenEvents = total;
   }
 
   refreshHud() {
