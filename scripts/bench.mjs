@@ -82,3 +82,29 @@ console.log(`${'workload'.padEnd(26)} ${'native ns'.padStart(10)} ${'wasm ns'.pa
 for (const r of rows) {
   console.log(`${r.id.padEnd(26)} ${r.native.toFixed(0).padStart(10)} ${r.wasm.toFixed(0).padStart(10)} ${median(r.ratios).toFixed(2).padStart(12)}  ${r.goal}`);
 }
+
+// One full control step of lwr4 among N static spheres (issue 5): FK,
+// skeleton, scene query, control points, transitions, Jacobians, controller.
+// Native: criterion's median from the `control_step` bench run above; wasm:
+// the same workload (`benchControlStep`) timed from Node in this run.
+function criterionMedian(id) {
+  const file = path.join(repo, 'target', 'criterion', ...id.split('/'), 'new', 'estimates.json');
+  return JSON.parse(fs.readFileSync(file, 'utf8')).median.point_estimate;
+}
+const stepRows = [];
+for (const [n, goal, batch] of [[10, 10, 2000], [100, 50, 500], [1000, 330, 100]]) {
+  const id = `control_step/lwr4/${n}`;
+  sa.benchControlStep(batch, n); // warm-up (compilation tiers)
+  const per = [];
+  for (let s = 0; s < 15; s++) {
+    const t0 = process.hrtime.bigint();
+    sa.benchControlStep(batch, n);
+    per.push(Number(process.hrtime.bigint() - t0) / batch);
+  }
+  stepRows.push({ id, native: criterionMedian(id), wasm: median(per), goal: `native ≤ ${goal} µs, wasm/native ≤ 1.5` });
+}
+console.log('\n=== full control step (lwr4 among N spheres, 1 kHz), median per step');
+console.log(`${'workload'.padEnd(26)} ${'native ns'.padStart(10)} ${'wasm ns'.padStart(10)} ${'wasm/native'.padStart(12)}  goal`);
+for (const r of stepRows) {
+  console.log(`${r.id.padEnd(26)} ${r.native.toFixed(0).padStart(10)} ${r.wasm.toFixed(0).padStart(10)} ${(r.wasm / r.native).toFixed(2).padStart(12)}  ${r.goal}`);
+}

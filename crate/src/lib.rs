@@ -17,6 +17,12 @@
 //! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, forward kinematics, IK | §II, §III |
 //! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
 //! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives | §III-A, eq. 2–4 |
+//! | [`transition`] | a control point travelling along the skeleton through the nodes, one cubic per DH value | §III-B, fig. 5 |
+//! | [`avoidance`] | control-point selection, potential-field repulsion, velocity / torque / second-order CLIK controllers with task priority | §II, §III-A |
+//! | [`dependability`] | sensing errors, margin propagation, switch risk, chattering (stop or lock), time to collision, events | §IV |
+//! | [`scenario`] | scenario and trace types, validation with JSON paths, the shipped examples | — |
+//! | [`world`] | a live simulation: stepping, obstacle edits, picking, `simulate` | — |
+//! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
 //! | [`distance`] | primitives, closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
 //! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
 //! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground | — |
@@ -38,14 +44,19 @@
 //! Every fallible function returns a typed error whose message names the field
 //! and the reason; nothing in the core panics on user input.
 
+pub mod avoidance;
 pub mod control_point;
+pub mod dependability;
 pub mod distance;
 pub mod error;
 pub mod kinematics;
 pub mod math;
 pub mod rng;
+pub mod scenario;
 pub mod skeleton;
+pub mod transition;
 pub mod workloads;
+pub mod world;
 
 #[cfg(all(target_arch = "wasm32", feature = "render"))]
 pub mod render;

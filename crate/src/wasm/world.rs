@@ -1,0 +1,270 @@
+//! JS bindings of the world contract: `simulate`, the `World` class,
+//! `exampleScenario`, `exampleScenarioNames`, `benchControlStep`. Converts
+//! and validates only; the work is in [`crate::world`].
+
+use glam::DVec3;
+use wasm_bindgen::prelude::*;
+
+use super::convert::{f64_vec, finite_arg, from_js_at, js_error, object_from_js, to_js};
+use crate::error::FieldError;
+use crate::scenario::{self, ObstacleSpec, Scenario, ScenarioError, ShapeSpec};
+use crate::world::{self, World};
+
+fn scenario_error(e: &ScenarioError) -> JsError {
+    js_error(e.field())
+}
+
+fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
+    if !value.is_object() || js_sys::Array::is_array(&value) {
+        return Err(js_error(&FieldError::new("scenario", "expected an object")));
+    }
+    let s: Scenario = from_js_at("", "scenario", value)?;
+    s.validate().map_err(|e| scenario_error(&e))?;
+    Ok(s)
+}
+
+fn point3(field: &str, value: &JsValue) -> Result<DVec3, JsError> {
+    let v = f64_vec(field, value)?;
+    if v.len() != 3 {
+        return Err(js_error(&FieldError::new(
+            field,
+            format!("expected [x, y, z], got {} numbers", v.len()),
+        )));
+    }
+    let p = DVec3::new(v[0], v[1], v[2]);
+    crate::error::finite3(field, p).map_err(|e| js_error(&e))
+}
+
+/// Runs a scenario to its duration and returns the trace
+/// `{ samples: [{ t, q, minClearance, controlPoints }], events: [{ t, kind, … }] }`.
+///
+/// # Errors
+/// A JS `Error` naming the JSON path and the reason, e.g.
+/// `obstacles[2].shape.radius: must be > 0`.
+#[wasm_bindgen]
+pub fn simulate(scenario: JsValue) -> Result<JsValue, JsError> {
+    let s = scenario_from_js(scenario)?;
+    let trace = world::simulate(&s).map_err(|e| scenario_error(&e))?;
+    to_js(&trace)
+}
+
+/// The example scenario `name` as a plain object (see `exampleScenarioNames`).
+///
+/// # Errors
+/// `name: unknown example "x" (known: …)`.
+#[wasm_bindgen(js_name = exampleScenario)]
+pub fn example_scenario(name: &str) -> Result<JsValue, JsError> {
+    let s = scenario::example(name).map_err(|e| scenario_error(&e))?;
+    to_js(&s)
+}
+
+/// Names of the shipped example scenarios.
+#[wasm_bindgen(js_name = exampleScenarioNames)]
+#[must_use]
+pub fn example_scenario_names() -> Vec<String> {
+    scenario::EXAMPLE_NAMES
+        .iter()
+        .map(|s| (*s).to_owned())
+        .collect()
+}
+
+/// Runs `iterations` control steps of the benchmark workload (`lwr4` among
+/// `obstacles` static spheres, default 20, at 1 kHz) and returns a checksum.
+///
+/// # Errors
+/// More than 100000 obstacles.
+#[wasm_bindgen(js_name = benchControlStep)]
+pub fn bench_control_step(iterations: u32, obstacles: Option<u32>) -> Result<f64, JsError> {
+    let n = obstacles.unwrap_or(20);
+    if n > 100_000 {
+        return Err(js_error(&FieldError::new("obstacles", "at most 100000")));
+    }
+    let mut w = world::control_step_workload(n as usize).map_err(|e| scenario_error(&e))?;
+    let start = w.clone();
+    let mut sum = 0.0;
+    for k in 0..iterations {
+        if k % 4000 == 3999 {
+            w = start.clone();
+        }
+        w.step(0.001);
+        sum += w.q()[0];
+    }
+    Ok(sum)
+}
+
+/// A live simulation that JavaScript owns: step it, read its state, edit
+/// its obstacles and controller; call `free()` when done.
+#[wasm_bindgen(js_name = World)]
+#[derive(Debug)]
+pub struct WorldHandle {
+    inner: World,
+}
+
+impl WorldHandle {
+    /// The simulation, for the renderer's `drawWorld` (the playground's
+    /// viewer reads it in Rust, so per-frame geometry never crosses to JS).
+    #[must_use]
+    #[allow(dead_code)]
+    pub(crate) fn world(&self) -> &World {
+        &self.inner
+    }
+}
+
+#[wasm_bindgen(js_class = World)]
+impl WorldHandle {
+    /// A world at `t = 0` for `scenario` (see `docs/scenarios.md`).
+    ///
+    /// # Errors
+    /// The JSON path and the reason of the first bad value.
+    #[wasm_bindgen(constructor)]
+    pub fn new(scenario: JsValue) -> Result<WorldHandle, JsError> {
+        let s = scenario_from_js(scenario)?;
+        let inner = World::new(s).map_err(|e| scenario_error(&e))?;
+        Ok(Self { inner })
+    }
+
+    /// One control step of `dt` seconds.
+    ///
+    /// # Errors
+    /// `dt: must be > 0` (or above 0.1 s, or not finite).
+    pub fn step(&mut self, dt: f64) -> Result<(), JsError> {
+        self.advance(dt, 1)
+    }
+
+    /// `steps` control steps of `dt` seconds each (one call per frame).
+    ///
+    /// # Errors
+    /// As `step`; `steps` above 100000.
+    pub fn advance(&mut self, dt: f64, steps: u32) -> Result<(), JsError> {
+        let dt = finite_arg("dt", dt)?;
+        if dt <= 0.0 {
+            return Err(js_error(&FieldError::new("dt", "must be > 0")));
+        }
+        if dt > scenario::MAX_DT {
+            return Err(js_error(&FieldError::new(
+                "dt",
+                format!("must be ≤ {} s", scenario::MAX_DT),
+            )));
+        }
+        if steps > 100_000 {
+            return Err(js_error(&FieldError::new(
+                "steps",
+                "at most 100000 per call",
+            )));
+        }
+        for _ in 0..steps {
+            self.inner.step(dt);
+        }
+        Ok(())
+    }
+
+    /// Simulation time (s).
+    #[wasm_bindgen(getter)]
+    #[must_use]
+    pub fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    /// Number of events so far (a cursor for `state(since)`).
+    #[wasm_bindgen(getter, js_name = eventCount)]
+    #[must_use]
+    pub fn event_count(&self) -> usize {
+        self.inner.event_count()
+    }
+
+    /// `{ t, q, qdot, minClearance, skeleton, obstacles, controlPoints,
+    /// uncertainty, events, timeToCollision?, stopped }`; `events` holds the
+    /// events from number `since` on (pass the last `eventCount` when polling
+    /// every frame), or all those kept (the latest 10000 to 20000).
+    ///
+    /// # Errors
+    /// Only if the state cannot be converted (a bug).
+    pub fn state(&self, since: Option<u32>) -> Result<JsValue, JsError> {
+        to_js(&self.inner.state_since(since.unwrap_or(0) as usize))
+    }
+
+    /// Adds an obstacle `{ id, shape, motion? }`.
+    ///
+    /// # Errors
+    /// A bad spec or an id in use; the world is unchanged.
+    #[wasm_bindgen(js_name = addObstacle)]
+    pub fn add_obstacle(&mut self, spec: JsValue) -> Result<(), JsError> {
+        let spec: ObstacleSpec = object_from_js("obstacle", spec)?;
+        self.inner
+            .add_obstacle(spec)
+            .map_err(|e| js_error(&e.field().clone().within("obstacle")))
+    }
+
+    /// Removes obstacle `id`.
+    ///
+    /// # Errors
+    /// `id: no obstacle "x"`; the world is unchanged.
+    #[wasm_bindgen(js_name = removeObstacle)]
+    pub fn remove_obstacle(&mut self, id: &str) -> Result<(), JsError> {
+        self.inner
+            .remove_obstacle(id)
+            .map_err(|e| scenario_error(&e))
+    }
+
+    /// Replaces the figure of obstacle `id` (a primitive or a human).
+    ///
+    /// # Errors
+    /// An unknown id or a bad figure; the world is unchanged.
+    #[wasm_bindgen(js_name = setObstacleShape)]
+    pub fn set_obstacle_shape(&mut self, id: &str, shape: JsValue) -> Result<(), JsError> {
+        let shape: ShapeSpec = object_from_js("shape", shape)?;
+        self.inner
+            .set_obstacle_shape(id, shape)
+            .map_err(|e| scenario_error(&e))
+    }
+
+    /// Moves obstacle `id` so that its reference point (centre, middle,
+    /// vertex mean, floor point of a human) is at `position` `[x, y, z]`.
+    ///
+    /// # Errors
+    /// An unknown id or a bad position; the world is unchanged.
+    #[wasm_bindgen(js_name = moveObstacle)]
+    pub fn move_obstacle(&mut self, id: &str, position: JsValue) -> Result<(), JsError> {
+        let p = point3("position", &position)?;
+        self.inner
+            .set_obstacle_position(id, p)
+            .map_err(|e| scenario_error(&e))
+    }
+
+    /// Changes some controller fields (`{ mode: "torque" }`, `{ torque: {
+    /// stiffness: 100 } }`, …); the others keep their values.
+    ///
+    /// # Errors
+    /// Unknown fields or bad values, e.g.
+    /// `controller.influenceDistance: must be > 0`; the world is unchanged.
+    #[wasm_bindgen(js_name = setController)]
+    pub fn set_controller(&mut self, partial: JsValue) -> Result<(), JsError> {
+        let patch: serde_json::Value = object_from_js("controller", partial)?;
+        let config = self
+            .inner
+            .merged_controller(&patch)
+            .map_err(|e| scenario_error(&e))?;
+        self.inner
+            .set_controller(config)
+            .map_err(|e| scenario_error(&e))
+    }
+
+    /// The first obstacle hit by the ray from `origin` along `direction`:
+    /// `{ id, point, distance }` or `null`.
+    ///
+    /// # Errors
+    /// Bad vectors or a zero direction.
+    pub fn pick(&self, origin: JsValue, direction: JsValue) -> Result<JsValue, JsError> {
+        let o = point3("origin", &origin)?;
+        let d = point3("direction", &direction)?;
+        match self.inner.pick(o, d).map_err(|e| scenario_error(&e))? {
+            Some(p) => to_js(&p),
+            None => Ok(JsValue::NULL),
+        }
+    }
+
+    /// Back to `t = 0` and the initial joints, keeping the edits.
+    pub fn reset(&mut self) {
+        self.inner.reset();
+    }
+}

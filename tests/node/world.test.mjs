@@ -1,0 +1,151 @@
+// The world part of the public JS contract, against crate/pkg-node:
+// simulate, World, exampleScenario(Names), benchControlStep.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { createRequire } from 'node:module';
+
+const require = createRequire(import.meta.url);
+const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
+
+const NAMES = ['planar-transition', 'lwr4-elbow', 'human-panda', 'dual-arm-self', 'chattering'];
+
+test('exampleScenarioNames lists the shipped examples and each one loads', () => {
+  assert.deepEqual(sa.exampleScenarioNames(), NAMES);
+  for (const name of NAMES) {
+    const s = sa.exampleScenario(name);
+    assert.ok(s.robot && Array.isArray(s.obstacles) && s.dt > 0, name);
+    // Defaults are filled in.
+    assert.equal(typeof s.controller.influenceDistance, 'number', name);
+    assert.equal(typeof s.dependability.switchWindow, 'number', name);
+  }
+  assert.throws(() => sa.exampleScenario('nope'), /name: unknown example "nope"/);
+});
+
+test('simulate returns samples and events in the documented shape', () => {
+  const s = sa.exampleScenario('planar-transition');
+  s.duration = 0.7;
+  const trace = sa.simulate(s);
+  assert.equal(trace.samples.length, 700);
+  const first = trace.samples[0];
+  assert.equal(first.t, 0);
+  assert.equal(first.q.length, 3);
+  assert.ok('minClearance' in first);
+  const cp = trace.samples[100].controlPoints[0];
+  for (const key of ['position', 'link', 'd', 'a', 'obstacle', 'distance']) assert.ok(key in cp, key);
+  assert.equal(cp.obstacle, 'ball');
+  const kinds = trace.events.map((e) => e.kind);
+  assert.ok(kinds.includes('segmentSwitch'));
+  assert.ok(kinds.includes('transitionStart'));
+  assert.ok(kinds.includes('transitionEnd'));
+  const start = trace.events.find((e) => e.kind === 'transitionStart');
+  assert.ok(Math.abs(start.t - 0.3) < 1e-9);
+  assert.ok(Math.abs(start.duration - 0.3) < 1e-9, 'link 1 → link 3: three DH values, 0.1 s each');
+  // Same scenario, same trace.
+  assert.deepEqual(sa.simulate(s), trace);
+});
+
+test('the chattering example stops the robot and says why', () => {
+  const trace = sa.simulate(sa.exampleScenario('chattering'));
+  const chatter = trace.events.find((e) => e.kind === 'chattering');
+  const stop = trace.events.find((e) => e.kind === 'stop');
+  assert.ok(chatter && stop);
+  assert.equal(stop.t, chatter.t);
+  assert.ok(chatter.t <= 0.5);
+  assert.match(stop.reason, /chattering/);
+});
+
+test('scenario errors name the JSON path and the reason', () => {
+  const base = () => ({ robot: { preset: 'lwr4' }, obstacles: [], dt: 0.001, duration: 0.01 });
+  const bad = base();
+  bad.obstacles = [
+    { id: 'a', shape: { type: 'sphere', center: [0, 0, 1], radius: 0.1 } },
+    { id: 'b', shape: { type: 'point', p: [0, 1, 1] } },
+    { id: 'c', shape: { type: 'sphere', center: [1, 0, 1], radius: -0.2 } },
+  ];
+  assert.throws(() => sa.simulate(bad), { message: 'obstacles[2].shape.radius: must be > 0' });
+  assert.throws(() => new sa.World(bad), { message: 'obstacles[2].shape.radius: must be > 0' });
+  assert.throws(() => sa.simulate({ ...base(), dt: 0 }), { message: 'dt: must be > 0' });
+  assert.throws(() => sa.simulate({ ...base(), dt: NaN }), /dt: not a finite number/);
+  assert.throws(() => sa.simulate({ ...base(), colour: 'red' }), /colour/);
+  assert.throws(() => sa.simulate({ ...base(), controller: { mode: 'fast' } }), /controller\.mode/);
+  assert.throws(() => sa.simulate({ ...base(), sensing: { ghost: { bound: 1 } } }), /sensing\.ghost: no obstacle/);
+  assert.throws(() => sa.simulate(undefined), /scenario/);
+  assert.throws(() => sa.simulate([1, 2]), /scenario: expected an object/);
+});
+
+test('a World steps, reports its state and accepts edits', () => {
+  const w = new sa.World(sa.exampleScenario('lwr4-elbow'));
+  w.advance(0.001, 16);
+  assert.ok(Math.abs(w.time - 0.016) < 1e-12);
+  const s = w.state();
+  for (const key of ['t', 'q', 'qdot', 'minClearance', 'skeleton', 'obstacles', 'controlPoints', 'uncertainty', 'events', 'stopped']) {
+    assert.ok(key in s, key);
+  }
+  assert.equal(s.q.length, 7);
+  assert.ok(s.skeleton.nodes.length > 2 && s.skeleton.segments[0].radius.length === 2);
+  assert.deepEqual(s.obstacles[0].shape.type, 'sphere');
+
+  w.moveObstacle('ball', [0.0, 0.5, 1.0]);
+  assert.deepEqual(w.state().obstacles[0].shape.center, [0.0, 0.5, 1.0]);
+  const hit = w.pick([0, 0.5, 3], [0, 0, -1]);
+  assert.equal(hit.id, 'ball');
+  assert.ok(Math.abs(hit.point[2] - 1.08) < 1e-9);
+  assert.equal(w.pick([5, 5, 5], [0, 0, 1]), null);
+
+  w.addObstacle({ id: 'person', shape: { type: 'human', position: [1.2, 0, 0] } });
+  assert.equal(w.state().obstacles[1].parts.length, 4);
+  w.setObstacleShape('ball', { type: 'capsule', a: [0, 0.5, 1], b: [0, 0.6, 1], radius: 0.05 });
+  w.setController({ mode: 'torque', torque: { stiffness: 150 } });
+  w.advance(0.001, 10);
+  w.removeObstacle('person');
+  assert.equal(w.state().obstacles.length, 1);
+  w.reset();
+  assert.equal(w.time, 0);
+  assert.equal(w.state().events.length, 0);
+  w.free();
+});
+
+test('invalid edits throw with the field and leave the World as it was', () => {
+  const w = new sa.World(sa.exampleScenario('lwr4-elbow'));
+  w.advance(0.001, 5);
+  const before = JSON.stringify(w.state());
+  assert.throws(() => w.addObstacle({ id: 'x', shape: { type: 'sphere', center: [0, 0, 0], radius: 0 } }),
+    { message: 'obstacle.shape.radius: must be > 0' });
+  assert.throws(() => w.addObstacle({ id: 'ball', shape: { type: 'point', p: [0, 0, 0] } }), /already used/);
+  assert.throws(() => w.addObstacle({ id: 'x', shape: { type: 'point', p: [0, 0, 0] }, extra: 1 }), /extra/);
+  assert.throws(() => w.removeObstacle('nope'), { message: 'id: no obstacle "nope"' });
+  assert.throws(() => w.setObstacleShape('ball', { type: 'cone' }), /shape/);
+  assert.throws(() => w.moveObstacle('ball', [0, NaN, 0]), /position/);
+  assert.throws(() => w.moveObstacle('ball', [0, 0]), /position: expected \[x, y, z\]/);
+  assert.throws(() => w.setController({ influenceDistance: -1 }), { message: 'controller.influenceDistance: must be > 0' });
+  assert.throws(() => w.setController({ bogus: true }), /bogus/);
+  assert.throws(() => w.setController(null), /controller/);
+  assert.throws(() => w.pick([0, 0, 0], [0, 0, 0]), /direction: must not be zero/);
+  assert.throws(() => w.step(0), { message: 'dt: must be > 0' });
+  assert.throws(() => w.step(NaN), /dt/);
+  assert.throws(() => w.step(1), /dt: must be ≤ 0.1 s/);
+  assert.equal(JSON.stringify(w.state()), before);
+  w.free();
+});
+
+test('state(since) returns only new events', () => {
+  const w = new sa.World(sa.exampleScenario('chattering'));
+  w.advance(0.001, 50);
+  const n = w.eventCount;
+  assert.ok(n > 2);
+  assert.equal(w.state(n - 1).events.length, 1);
+  w.advance(0.001, 50);
+  assert.equal(w.state(n).events.length, w.eventCount - n);
+  w.free();
+});
+
+test('benchControlStep runs 1 kHz steps of lwr4 among obstacles', () => {
+  const t0 = process.hrtime.bigint();
+  const sum = sa.benchControlStep(200);
+  const ns = Number(process.hrtime.bigint() - t0) / 200;
+  assert.ok(Number.isFinite(sum));
+  assert.ok(Number.isFinite(sa.benchControlStep(10, 100)));
+  assert.throws(() => sa.benchControlStep(1, 1e6), /obstacles/);
+  // Loose: the playground needs 16 steps in a 16.7 ms frame.
+  assert.ok(ns < 1e6, `${ns} ns per step`);
+});
