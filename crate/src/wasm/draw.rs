@@ -465,3 +465,53 @@ fn draw_inflated(scene: &mut Scene, shape: &PrimitiveSpec, m: f32) {
         _ => {}
     }
 }
+
+impl DrawState {
+    /// The drawn part of a world's state, copied in Rust (nothing crosses to JS).
+    #[must_use]
+    pub fn from_world(state: &crate::world::WorldState) -> Self {
+        Self {
+            skeleton: SkeletonView {
+                nodes: state.skeleton.nodes.clone(),
+                segments: state
+                    .skeleton
+                    .segments
+                    .iter()
+                    .map(|s| SegmentView {
+                        from: s.from,
+                        to: s.to,
+                        radius: s.radius,
+                    })
+                    .collect(),
+            },
+            obstacles: state
+                .obstacles
+                .iter()
+                .map(|o| ObstacleView {
+                    id: o.id.clone(),
+                    shape: serde_json::to_value(&o.shape).unwrap_or(serde_json::Value::Null),
+                    parts: Some(o.parts.clone()),
+                })
+                .collect(),
+            control_points: state
+                .control_points
+                .iter()
+                .map(|c| ControlPointView {
+                    position: c.position,
+                    witness: Some(c.witness),
+                    repulsion: Some(c.repulsion),
+                    transitioning: c.transitioning,
+                    obstacle: c.obstacle.clone(),
+                })
+                .collect(),
+            uncertainty: state
+                .uncertainty
+                .iter()
+                .map(|u| UncertaintyView {
+                    obstacle: u.obstacle.clone(),
+                    radius: u.radius,
+                })
+                .collect(),
+        }
+    }
+}

@@ -242,6 +242,26 @@ impl Viewer {
         Ok(())
     }
 
+    /// Draws the current state of a simulated `World`: its skeleton,
+    /// obstacles, control points, distance lines, repulsion arrows and
+    /// uncertainty regions. Call it once per frame after stepping; the
+    /// geometry is read in Rust and never crosses to JS. Replaces the
+    /// robot's own skeleton until the next `setRobot`.
+    ///
+    /// ```js
+    /// world.advance(0.001, 16);
+    /// viewer.drawWorld(world);
+    /// viewer.render();
+    /// ```
+    #[wasm_bindgen(js_name = drawWorld)]
+    pub fn draw_world(&mut self, world: &super::world::WorldHandle) {
+        let core = world.world();
+        // Without events: the viewer does not draw them.
+        let state = core.state_since(core.event_count());
+        self.world = Some(DrawState::from_world(&state));
+        self.dirty = true;
+    }
+
     /// Highlights the obstacle with this id (`null` or `undefined`: none).
     ///
     /// # Errors
