@@ -143,7 +143,7 @@ const HUMAN: [f32; 4] = [0.90, 0.72, 0.58, 1.0];
 const CONTROL_POINT: [f32; 4] = [0.80, 0.10, 0.55, 1.0];
 const TRANSITIONING: [f32; 4] = [0.10, 0.70, 0.35, 1.0];
 const DISTANCE_LINE: [f32; 4] = [0.62, 0.08, 0.45, 1.0];
-const REPULSION: [f32; 4] = [0.10, 0.45, 0.85, 1.0];
+const REPULSION: [f32; 4] = [0.0, 0.62, 0.62, 1.0];
 const UNCERTAINTY: [f32; 4] = [0.95, 0.60, 0.10, 0.22];
 /// Radius of a point obstacle and thickness of a segment obstacle (m).
 const THIN: f32 = 0.012;
@@ -247,8 +247,8 @@ pub fn build_scene(
                 scene.push_arrow(
                     v(from.to_array()),
                     v((from + r).to_array()),
-                    3.0,
-                    0.05,
+                    4.0,
+                    0.06,
                     REPULSION,
                 );
             }

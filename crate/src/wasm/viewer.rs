@@ -34,7 +34,7 @@ struct ViewerOptions {
 
 /// What `setDisplay` toggles.
 #[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
 struct Display {
     /// The translucent volumes around the skeleton segments.
     volumes: bool,
@@ -44,7 +44,7 @@ struct Display {
     axes: bool,
     /// The ground grid.
     grid: bool,
-    /// Seconds of repulsion velocity per metre of arrow.
+    /// Arrow length per unit of repulsion (s: metres of arrow per m/s).
     arrow_scale: f64,
 }
 
@@ -55,7 +55,7 @@ impl Default for Display {
             nodes: true,
             axes: false,
             grid: true,
-            arrow_scale: 0.25,
+            arrow_scale: 0.4,
         }
     }
 }
@@ -331,8 +331,10 @@ impl Viewer {
         Ok(())
     }
 
-    /// Chooses what is drawn: `{ volumes?, nodes?, axes?, grid? }` (booleans;
-    /// missing fields take their defaults: volumes, nodes and grid on, axes off).
+    /// Chooses what is drawn: `{ volumes?, nodes?, axes?, grid?,
+    /// arrowScale? }` (booleans, and metres of repulsion arrow per m/s;
+    /// missing fields take their defaults: volumes, nodes and grid on, axes
+    /// off, arrowScale 0.4).
     ///
     /// # Errors
     /// An `Error` naming an unknown or mistyped field.
