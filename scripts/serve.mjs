@@ -1,7 +1,8 @@
 // Static server for the playground: web/ at "/", the wasm package crate/pkg at
 // "/pkg/". No dependencies; used by `npm start` and by the browser tests.
+// With `--root dist` it serves the built site as it is (its own pkg/).
 //
-//   node scripts/serve.mjs [--port 8080] [--host 127.0.0.1] [--root web]
+//   node scripts/serve.mjs [--port 8080] [--host 127.0.0.1] [--root web|dist]
 import http from 'node:http';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -24,7 +25,7 @@ const TYPES = {
 /** Starts the server; resolves to `{ server, url }` once it listens. */
 export function serve({ port = 8080, host = '127.0.0.1', root = 'web' } = {}) {
   const mounts = [
-    ['/pkg/', path.join(repo, 'crate', 'pkg')],
+    ...(root === 'web' ? [['/pkg/', path.join(repo, 'crate', 'pkg')]] : []),
     ['/', path.join(repo, root)],
   ];
   const server = http.createServer((req, res) => {

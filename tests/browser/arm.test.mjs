@@ -1,5 +1,6 @@
-// The first slice in a real browser: the planar 3-link arm drawn by the wgpu
-// renderer on each backend, moved by a slider with real mouse input.
+// The planar 3-link arm of the default scenario drawn by the wgpu renderer on
+// each backend, its initial pose set by a slider with real mouse input, the
+// camera driven by the mouse, and the failures shown on the page.
 //
 // Screenshots go to tests/artifacts/ (git-ignored): look at them.
 import { test, before, after } from 'node:test';
@@ -57,6 +58,8 @@ for (const backend of ['webgpu', 'webgl2']) {
       await page.goto(`${baseUrl}?backend=${backend}`);
       await page.evaluate(() => window.playground.ready);
       assert.equal(await page.evaluate(() => window.playground.backend), backend);
+      // Pause the simulation: this test is about drawing and input.
+      await page.locator('#run').click();
       await frames(page, 3);
 
       const before = await page.evaluate(() => window.playground.state());
@@ -86,8 +89,9 @@ for (const backend of ['webgpu', 'webgl2']) {
         assert.ok(colourDistance(c, BACKGROUND) > 60, `no arm at (${x.toFixed(0)}, ${y.toFixed(0)}): ${c}`);
       }
 
-      // Real input: click three quarters along the first joint's slider (≈ +π/2).
+      // Real input: click three quarters along the first joint's initial-pose slider (≈ +π/2).
       const slider = page.locator('#joint-0');
+      await slider.scrollIntoViewIfNeeded();
       const sb = await slider.boundingBox();
       await page.mouse.click(sb.x + 0.75 * sb.width, sb.y + sb.height / 2);
       await frames(page, 3);
@@ -134,7 +138,7 @@ for (const backend of ['webgpu', 'webgl2']) {
       assert.ok(span(zoomed) > 1.2 * span(orbited), `zoom: ${span(orbited)} -> ${span(zoomed)} px`);
       await screenshot(page, `arm-${backend}-4-camera.png`);
 
-      const status = await page.locator('#status').textContent();
+      const status = await page.locator('#page-status').textContent();
       assert.match(status, backend === 'webgpu' ? /WebGPU/ : /WebGL2/);
       assert.equal(await page.locator('#error').isHidden(), true);
       assert.deepEqual(errors, []);
@@ -156,7 +160,7 @@ test('without WebGPU, asking for it shows a readable error on the page', async (
     const text = await box.textContent();
     assert.match(text, /could not start/);
     assert.match(text, /WebGPU/);
-    await page.locator('main').screenshot({ path: path.join(artifacts, 'no-webgpu-error.png') });
+    await page.locator('skeleton-playground').screenshot({ path: path.join(artifacts, 'no-webgpu-error.png') });
   } finally {
     await browser.close();
   }
@@ -185,7 +189,7 @@ test('with neither WebGPU nor WebGL2 the page says so', async () => {
     assert.match(failure ?? '', /neither WebGPU nor WebGL2/);
     const text = await page.locator('#error').textContent();
     assert.match(text, /neither WebGPU nor WebGL2/);
-    await page.locator('main').screenshot({ path: path.join(artifacts, 'no-graphics-error.png') });
+    await page.locator('skeleton-playground').screenshot({ path: path.join(artifacts, 'no-graphics-error.png') });
   } finally {
     await browser.close();
   }
@@ -224,7 +228,7 @@ test('the Viewer rejects bad input with an Error naming the problem', async () =
         resize: message(() => v.resize(NaN, 10)),
         notCanvas: await rejection(Viewer.create(document.body, {})),
         backend: await rejection(Viewer.create(document.createElement('canvas'), { backend: 'vulkan' })),
-        stillDrawing: window.playground.state().q,
+        stillDrawing: v.state().q,
       };
     });
     assert.match(messages.shortQ, /q: expected 3 joint values, got 2/);

@@ -36,18 +36,27 @@ pub(crate) struct LineInstance {
     pub color: [f32; 4],
 }
 
-/// Rings per hemisphere (from the pole to the equator, inclusive).
-const RINGS: u32 = 8;
-/// Vertices around the axis.
-const SECTORS: u32 = 20;
+/// A vertex of a flat-shaded triangle.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct MeshVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub color: [f32; 4],
+}
 
-/// The capsule template as a triangle list (no index buffer: WebGL2 and
-/// WebGPU alike, and the mesh is small).
+/// Rings per hemisphere (from the pole to the equator, inclusive).
+const RINGS: u32 = 7;
+/// Vertices around the axis.
+const SECTORS: u32 = 18;
+
+/// The capsule template as indexed triangles (a vertex grid shared by its
+/// neighbours, so each is shaded once; WebGL2 and WebGPU alike).
 ///
 /// Two hemispheres, the one at `a` (pointing along −z) and the one at `b`
 /// (along +z), each with its own equator ring, joined by a band: with equal
 /// end points and radii it is a sphere.
-pub(crate) fn capsule_template() -> Vec<SolidVertex> {
+pub(crate) fn capsule_template() -> (Vec<SolidVertex>, Vec<u16>) {
     // Rows of unit directions, from the −z pole to the +z pole; each row
     // carries the side it belongs to. The two equator rows are the band.
     let mut rows: Vec<(f32, f32)> = Vec::new(); // (polar angle from +z, side)
@@ -59,25 +68,30 @@ pub(crate) fn capsule_template() -> Vec<SolidVertex> {
         let t = i as f32 / RINGS as f32;
         rows.push((std::f32::consts::FRAC_PI_2 * (1.0 - t), 1.0));
     }
-    let vertex = |row: (f32, f32), j: u32| {
-        let phi = j as f32 / SECTORS as f32 * std::f32::consts::TAU;
-        let (s, c) = row.0.sin_cos();
-        SolidVertex {
-            dir: [s * phi.cos(), s * phi.sin(), c],
-            side: row.1,
-        }
-    };
-    let mut out = Vec::with_capacity(rows.len() * SECTORS as usize * 6);
-    for pair in rows.windows(2) {
-        let (r0, r1) = (pair[0], pair[1]);
-        for j in 0..SECTORS {
-            let (a, b) = (vertex(r0, j), vertex(r0, j + 1));
-            let (c, d) = (vertex(r1, j), vertex(r1, j + 1));
-            // Counter-clockwise seen from outside.
-            out.extend_from_slice(&[a, b, d, a, d, c]);
+    let columns = SECTORS + 1; // the seam is duplicated
+    let mut vertices = Vec::with_capacity(rows.len() * columns as usize);
+    for &(polar, side) in &rows {
+        let (s, c) = polar.sin_cos();
+        for j in 0..columns {
+            let phi = j as f32 / SECTORS as f32 * std::f32::consts::TAU;
+            vertices.push(SolidVertex {
+                dir: [s * phi.cos(), s * phi.sin(), c],
+                side,
+            });
         }
     }
-    out
+    let mut indices = Vec::with_capacity((rows.len() - 1) * SECTORS as usize * 6);
+    for r in 0..rows.len() as u32 - 1 {
+        for j in 0..SECTORS {
+            let a = (r * columns + j) as u16;
+            let b = a + 1;
+            let c = a + columns as u16;
+            let d = c + 1;
+            // Counter-clockwise seen from outside.
+            indices.extend_from_slice(&[a, b, d, a, d, c]);
+        }
+    }
+    (vertices, indices)
 }
 
 /// The line quad as two triangles.

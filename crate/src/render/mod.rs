@@ -12,9 +12,10 @@
 //! hardware encode into an sRGB format, so a colour reads the same on both
 //! backends.
 //!
-//! Draw order: opaque solids (depth written), lines (depth tested, not
-//! written), then translucent solids sorted back to front (blended, depth
-//! tested, not written), so distance lines stay visible inside volumes.
+//! Draw order: opaque solids and opaque triangles (depth written), lines
+//! (depth tested, not written), then translucent triangles and translucent
+//! solids, each sorted back to front (blended, depth tested, not written),
+//! so distance lines stay visible inside volumes and behind a glassy plane.
 
 mod camera;
 mod geometry;
@@ -26,9 +27,9 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 pub use camera::{Camera, View};
-pub use scene::{Capsule, Grid, Line, Scene, Sphere};
+pub use scene::{Capsule, Grid, Line, Scene, Sphere, Triangle};
 
-use geometry::{LineInstance, LineVertex, SolidInstance, SolidVertex};
+use geometry::{LineInstance, LineVertex, MeshVertex, SolidInstance, SolidVertex};
 
 /// Which graphics API draws the canvas.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -158,7 +159,7 @@ impl InstanceBuffer {
 ///
 /// # Example (in an async wasm function)
 /// ```ignore
-/// let mut renderer = Renderer::new(canvas, BackendRequest::Auto).await?;
+/// let mut renderer = Renderer::new(canvas, BackendRequest::Auto, None).await?;
 /// renderer.resize(800, 600);
 /// renderer.update(&scene, &camera);
 /// renderer.render()?;
@@ -170,6 +171,7 @@ pub struct Renderer {
     queue: wgpu::Queue,
     config: wgpu::SurfaceConfiguration,
     backend: Backend,
+    adapter_name: String,
     sample_count: u32,
     depth_view: wgpu::TextureView,
     msaa_view: Option<wgpu::TextureView>,
@@ -178,14 +180,25 @@ pub struct Renderer {
     solid_opaque: wgpu::RenderPipeline,
     solid_blend: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
+    line_opaque: wgpu::RenderPipeline,
+    hair_pipeline: wgpu::RenderPipeline,
+    mesh_opaque: wgpu::RenderPipeline,
+    mesh_blend: wgpu::RenderPipeline,
     solid_template: wgpu::Buffer,
-    solid_vertex_count: u32,
+    solid_indices: wgpu::Buffer,
+    solid_index_count: u32,
     line_template: wgpu::Buffer,
     solids: InstanceBuffer,
     lines: InstanceBuffer,
+    mesh: InstanceBuffer,
+    hair: InstanceBuffer,
+    hair_count: u32,
+    mesh_opaque_count: u32,
+    mesh_blend_count: u32,
     opaque_count: u32,
     blend_count: u32,
     line_count: u32,
+    line_opaque_count: u32,
     background: wgpu::Color,
     encode_srgb: bool,
     globals: Globals,
@@ -193,7 +206,10 @@ pub struct Renderer {
 
 impl Renderer {
     /// Starts a renderer drawing into `canvas` with the backend `request`
-    /// asks for. The canvas keeps its size until [`Renderer::resize`].
+    /// asks for, multisampled (4×) when `antialias` says so (`None`: unless
+    /// the adapter is a software rasteriser such as SwiftShader, where
+    /// multisampling halves the frame rate) and the adapter supports it.
+    /// The canvas keeps its size until [`Renderer::resize`].
     ///
     /// # Errors
     /// [`RenderError::NoAdapter`] when the browser has neither WebGPU nor
@@ -203,6 +219,7 @@ impl Renderer {
     pub async fn new(
         canvas: web_sys::HtmlCanvasElement,
         request: BackendRequest,
+        antialias: Option<bool>,
     ) -> Result<Self, RenderError> {
         let (backends, requested) = match request {
             BackendRequest::Auto => (
@@ -239,7 +256,22 @@ impl Renderer {
             })
             .await
             .map_err(|_| RenderError::NoAdapter { requested })?;
-        let backend = match adapter.get_info().backend {
+        let info = adapter.get_info();
+        let adapter_name = [
+            info.name.as_str(),
+            info.driver.as_str(),
+            info.driver_info.as_str(),
+        ]
+        .into_iter()
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>()
+        .join(" / ");
+        let software = info.device_type == wgpu::DeviceType::Cpu
+            || ["swiftshader", "llvmpipe", "software", "lavapipe"]
+                .iter()
+                .any(|k| adapter_name.to_lowercase().contains(k));
+        let antialias = antialias.unwrap_or(!software);
+        let backend = match info.backend {
             wgpu::Backend::BrowserWebGpu => Backend::WebGpu,
             _ => Backend::WebGl2,
         };
@@ -294,7 +326,8 @@ impl Renderer {
         surface.configure(&device, &config);
 
         let format_flags = adapter.get_texture_format_features(format).flags;
-        let sample_count = if format_flags.sample_count_supported(4)
+        let sample_count = if antialias
+            && format_flags.sample_count_supported(4)
             && adapter
                 .get_texture_format_features(DEPTH_FORMAT)
                 .flags
@@ -361,13 +394,25 @@ impl Renderer {
         };
         let solid_opaque = pipelines.solid(false);
         let solid_blend = pipelines.solid(true);
-        let line_pipeline = pipelines.lines();
+        let line_pipeline = pipelines.lines(true);
+        let line_opaque = pipelines.lines(false);
+        let hair_pipeline = pipelines.hairlines();
+        let mesh_opaque = pipelines.mesh(false);
+        let mesh_blend = pipelines.mesh(true);
 
-        let template = geometry::capsule_template();
+        let (template, template_indices) = geometry::capsule_template();
         let solid_template = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("capsule template"),
             contents: bytemuck::cast_slice(&template),
             usage: wgpu::BufferUsages::VERTEX,
+        });
+        // Padded to a multiple of 4 bytes, as buffer writes require.
+        let mut index_bytes: Vec<u8> = bytemuck::cast_slice(&template_indices).to_vec();
+        index_bytes.resize(index_bytes.len().next_multiple_of(4), 0);
+        let solid_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("capsule template indices"),
+            contents: &index_bytes,
+            usage: wgpu::BufferUsages::INDEX,
         });
         let line_template = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("line template"),
@@ -384,6 +429,12 @@ impl Renderer {
             "line instances",
             std::mem::size_of::<LineInstance>(),
         );
+        let mesh = InstanceBuffer::new(&device, "mesh vertices", std::mem::size_of::<MeshVertex>());
+        let hair = InstanceBuffer::new(
+            &device,
+            "hairline vertices",
+            std::mem::size_of::<MeshVertex>(),
+        );
         let (depth_view, msaa_view) = attachments(&device, &config, sample_count);
 
         Ok(Self {
@@ -392,6 +443,7 @@ impl Renderer {
             queue,
             config,
             backend,
+            adapter_name,
             sample_count,
             depth_view,
             msaa_view,
@@ -400,14 +452,25 @@ impl Renderer {
             solid_opaque,
             solid_blend,
             line_pipeline,
+            line_opaque,
+            hair_pipeline,
+            mesh_opaque,
+            mesh_blend,
             solid_template,
-            solid_vertex_count: template.len() as u32,
+            solid_indices,
+            solid_index_count: template_indices.len() as u32,
             line_template,
             solids,
             lines,
+            mesh,
+            hair,
+            hair_count: 0,
+            mesh_opaque_count: 0,
+            mesh_blend_count: 0,
             opaque_count: 0,
             blend_count: 0,
             line_count: 0,
+            line_opaque_count: 0,
             background: wgpu::Color::WHITE,
             encode_srgb,
             globals,
@@ -418,6 +481,12 @@ impl Renderer {
     #[must_use]
     pub fn backend(&self) -> Backend {
         self.backend
+    }
+
+    /// What the browser says the adapter is (may be empty or masked).
+    #[must_use]
+    pub fn adapter_name(&self) -> &str {
+        &self.adapter_name
     }
 
     /// The colour format of the canvas, e.g. `Rgba8Unorm`.
@@ -520,9 +589,15 @@ impl Renderer {
             .upload(&self.device, &self.queue, bytemuck::cast_slice(&instances));
 
         let mut lines: Vec<LineInstance> = Vec::with_capacity(scene.lines.len() + 64);
+        // The grid is drawn as one-pixel hairlines: rasterised far faster
+        // than long thin quads, notably by software rasterisers.
+        let mut hair: Vec<MeshVertex> = Vec::new();
         if let Some(grid) = scene.grid {
-            push_grid(&mut lines, &grid);
+            push_grid(&mut hair, &grid);
         }
+        self.hair_count = hair.len() as u32;
+        self.hair
+            .upload(&self.device, &self.queue, bytemuck::cast_slice(&hair));
         lines.extend(scene.lines.iter().map(|l| LineInstance {
             p0_width: [l.a[0], l.a[1], l.a[2], l.width.max(0.0)],
             p1: [l.b[0], l.b[1], l.b[2], 0.0],
@@ -535,28 +610,64 @@ impl Renderer {
                 .chain(&l.color)
                 .all(|x| x.is_finite())
         });
+        // Opaque lines first: they are drawn without blending (cheaper).
+        let (mut lines, blended): (Vec<_>, Vec<_>) =
+            lines.into_iter().partition(|l| l.color[3] >= 1.0);
+        self.line_opaque_count = lines.len() as u32;
+        lines.extend(blended);
         self.line_count = lines.len() as u32;
         self.lines
             .upload(&self.device, &self.queue, bytemuck::cast_slice(&lines));
+
+        let finite =
+            |t: &&scene::Triangle| t.p.iter().flatten().chain(&t.color).all(|x| x.is_finite());
+        let (opaque, mut blend): (Vec<&scene::Triangle>, Vec<&scene::Triangle>) = scene
+            .triangles
+            .iter()
+            .filter(finite)
+            .partition(|t| t.color[3] >= 1.0);
+        let centroid = |t: &scene::Triangle| {
+            (glam::Vec3::from(t.p[0]) + glam::Vec3::from(t.p[1]) + glam::Vec3::from(t.p[2])) / 3.0
+        };
+        blend.sort_by(|x, y| {
+            centroid(y)
+                .distance_squared(eye)
+                .total_cmp(&centroid(x).distance_squared(eye))
+        });
+        self.mesh_opaque_count = 3 * opaque.len() as u32;
+        self.mesh_blend_count = 3 * blend.len() as u32;
+        let mut vertices: Vec<MeshVertex> = Vec::with_capacity(3 * scene.triangles.len());
+        for t in opaque.into_iter().chain(blend) {
+            let [a, b, c] = t.p.map(glam::Vec3::from);
+            let normal = (b - a).cross(c - a).normalize_or(glam::Vec3::Z).to_array();
+            vertices.extend(t.p.iter().map(|&position| MeshVertex {
+                position,
+                normal,
+                color: t.color,
+            }));
+        }
+        self.mesh
+            .upload(&self.device, &self.queue, bytemuck::cast_slice(&vertices));
     }
 
-    /// Draws the last uploaded scene and presents it.
+    /// Draws the last uploaded scene and presents it; `Ok(false)` when the
+    /// frame was skipped.
     ///
     /// A frame the browser is not ready for (timeout, occluded) is skipped
     /// silently; an outdated surface is reconfigured and the frame skipped.
     ///
     /// # Errors
     /// [`RenderError::Lost`] when the surface is lost for good.
-    pub fn render(&mut self) -> Result<(), RenderError> {
+    pub fn render(&mut self) -> Result<bool, RenderError> {
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(frame)
             | wgpu::CurrentSurfaceTexture::Suboptimal(frame) => frame,
             wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
-                return Ok(());
+                return Ok(false);
             }
             wgpu::CurrentSurfaceTexture::Outdated => {
                 self.surface.configure(&self.device, &self.config);
-                return Ok(());
+                return Ok(false);
             }
             wgpu::CurrentSurfaceTexture::Lost => return Err(RenderError::Lost("lost")),
             wgpu::CurrentSurfaceTexture::Validation => {
@@ -610,29 +721,57 @@ impl Renderer {
                 pass.set_pipeline(&self.solid_opaque);
                 pass.set_vertex_buffer(0, self.solid_template.slice(..));
                 pass.set_vertex_buffer(1, self.solids.buffer.slice(..));
-                pass.draw(0..self.solid_vertex_count, 0..self.opaque_count);
+                pass.set_index_buffer(self.solid_indices.slice(..), wgpu::IndexFormat::Uint16);
+                pass.draw_indexed(0..self.solid_index_count, 0, 0..self.opaque_count);
             }
-            if self.line_count > 0 {
+            if self.mesh_opaque_count > 0 {
+                pass.set_pipeline(&self.mesh_opaque);
+                pass.set_vertex_buffer(0, self.mesh.buffer.slice(..));
+                pass.draw(0..self.mesh_opaque_count, 0..1);
+            }
+            if self.hair_count > 0 {
+                pass.set_pipeline(&self.hair_pipeline);
+                pass.set_vertex_buffer(0, self.hair.buffer.slice(..));
+                pass.draw(0..self.hair_count, 0..1);
+            }
+            if self.line_opaque_count > 0 {
+                pass.set_pipeline(&self.line_opaque);
+                pass.set_vertex_buffer(0, self.line_template.slice(..));
+                pass.set_vertex_buffer(1, self.lines.buffer.slice(..));
+                pass.draw(0..6, 0..self.line_opaque_count);
+            }
+            if self.line_count > self.line_opaque_count {
                 pass.set_pipeline(&self.line_pipeline);
                 pass.set_vertex_buffer(0, self.line_template.slice(..));
                 pass.set_vertex_buffer(1, self.lines.buffer.slice(..));
-                pass.draw(0..6, 0..self.line_count);
+                pass.draw(0..6, self.line_opaque_count..self.line_count);
+            }
+            if self.mesh_blend_count > 0 {
+                pass.set_pipeline(&self.mesh_blend);
+                pass.set_vertex_buffer(0, self.mesh.buffer.slice(..));
+                let start = self.mesh_opaque_count;
+                pass.draw(start..start + self.mesh_blend_count, 0..1);
             }
             if self.blend_count > 0 {
                 pass.set_pipeline(&self.solid_blend);
                 pass.set_vertex_buffer(0, self.solid_template.slice(..));
                 pass.set_vertex_buffer(1, self.solids.buffer.slice(..));
+                pass.set_index_buffer(self.solid_indices.slice(..), wgpu::IndexFormat::Uint16);
                 let start = self.opaque_count;
-                pass.draw(0..self.solid_vertex_count, start..start + self.blend_count);
+                pass.draw_indexed(
+                    0..self.solid_index_count,
+                    0,
+                    start..start + self.blend_count,
+                );
             }
         }
         self.queue.submit([encoder.finish()]);
         self.queue.present(frame);
-        Ok(())
+        Ok(true)
     }
 }
 
-/// Builds the three pipelines, which share everything but their state.
+/// Builds the pipelines, which share everything but their state.
 struct Pipelines<'a> {
     device: &'a wgpu::Device,
     layout: &'a wgpu::PipelineLayout,
@@ -667,7 +806,27 @@ impl Pipelines<'_> {
         )
     }
 
-    fn lines(&self) -> wgpu::RenderPipeline {
+    fn mesh(&self, blend: bool) -> wgpu::RenderPipeline {
+        let vertex = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<MeshVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
+        };
+        self.build(
+            if blend {
+                "translucent triangles"
+            } else {
+                "opaque triangles"
+            },
+            ("vs_mesh", "fs_mesh"),
+            &[Some(vertex)],
+            None,
+            !blend,
+            blend,
+        )
+    }
+
+    fn lines(&self, blend: bool) -> wgpu::RenderPipeline {
         let template = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<LineVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -679,12 +838,12 @@ impl Pipelines<'_> {
             attributes: &wgpu::vertex_attr_array![1 => Float32x4, 2 => Float32x4, 3 => Float32x4],
         };
         self.build(
-            "lines",
+            if blend { "lines" } else { "opaque lines" },
             ("vs_line", "fs_line"),
             &[Some(template), Some(instance)],
             None,
             false,
-            true,
+            blend,
         )
     }
 
@@ -694,6 +853,41 @@ impl Pipelines<'_> {
         (vs, fs): (&str, &str),
         buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
         cull_mode: Option<wgpu::Face>,
+        depth_write: bool,
+        blend: bool,
+    ) -> wgpu::RenderPipeline {
+        self.build_with(
+            label,
+            (vs, fs),
+            buffers,
+            (wgpu::PrimitiveTopology::TriangleList, cull_mode),
+            depth_write,
+            blend,
+        )
+    }
+
+    fn hairlines(&self) -> wgpu::RenderPipeline {
+        let vertex = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<MeshVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
+        };
+        self.build_with(
+            "hairlines",
+            ("vs_mesh", "fs_hair"),
+            &[Some(vertex)],
+            (wgpu::PrimitiveTopology::LineList, None),
+            false,
+            false,
+        )
+    }
+
+    fn build_with(
+        &self,
+        label: &str,
+        (vs, fs): (&str, &str),
+        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+        (topology, cull_mode): (wgpu::PrimitiveTopology, Option<wgpu::Face>),
         depth_write: bool,
         blend: bool,
     ) -> wgpu::RenderPipeline {
@@ -708,7 +902,7 @@ impl Pipelines<'_> {
                     buffers,
                 },
                 primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    topology,
                     front_face: wgpu::FrontFace::Ccw,
                     cull_mode,
                     ..wgpu::PrimitiveState::default()
@@ -770,7 +964,7 @@ fn attachments(
 }
 
 /// Adds the lines of `grid` (the two through the origin in the axis colour).
-fn push_grid(lines: &mut Vec<LineInstance>, grid: &Grid) {
+fn push_grid(lines: &mut Vec<MeshVertex>, grid: &Grid) {
     if !(grid.spacing.is_finite() && grid.half_extent.is_finite())
         || grid.spacing <= 0.0
         || grid.half_extent <= 0.0
@@ -783,11 +977,13 @@ fn push_grid(lines: &mut Vec<LineInstance>, grid: &Grid) {
         let t = i as f32 * grid.spacing;
         let color = if i == 0 { grid.axis_color } else { grid.color };
         for (a, b) in [([t, -h, 0.0], [t, h, 0.0]), ([-h, t, 0.0], [h, t, 0.0])] {
-            lines.push(LineInstance {
-                p0_width: [a[0], a[1], a[2], 1.0],
-                p1: [b[0], b[1], b[2], 0.0],
-                color,
-            });
+            for position in [a, b] {
+                lines.push(MeshVertex {
+                    position,
+                    normal: [0.0, 0.0, 1.0],
+                    color,
+                });
+            }
         }
     }
 }

@@ -44,6 +44,16 @@ pub struct Line {
     pub color: [f32; 4],
 }
 
+/// A flat-shaded triangle, lit from both sides (planes, rectangles, disks,
+/// polygons, box faces).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    /// The corners (m); the normal follows their order but both faces are lit.
+    pub p: [[f32; 3]; 3],
+    /// sRGB colour and opacity.
+    pub color: [f32; 4],
+}
+
 /// A square grid of lines on the ground plane `z = 0`, centred on the origin.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grid {
@@ -81,6 +91,8 @@ pub struct Scene {
     pub spheres: Vec<Sphere>,
     /// Lines (distance lines, arrow shafts, frame axes).
     pub lines: Vec<Line>,
+    /// Flat triangles (opaque and translucent).
+    pub triangles: Vec<Triangle>,
 }
 
 impl Default for Scene {
@@ -91,6 +103,7 @@ impl Default for Scene {
             capsules: Vec::new(),
             spheres: Vec::new(),
             lines: Vec::new(),
+            triangles: Vec::new(),
         }
     }
 }
@@ -107,6 +120,216 @@ impl Scene {
         self.capsules.clear();
         self.spheres.clear();
         self.lines.clear();
+        self.triangles.clear();
+    }
+
+    /// Adds a closed outline through `points` as lines of `width` pixels.
+    pub fn push_loop(&mut self, points: &[[f32; 3]], width: f32, color: [f32; 4]) {
+        for (i, &a) in points.iter().enumerate() {
+            let b = points[(i + 1) % points.len()];
+            self.lines.push(Line { a, b, width, color });
+        }
+    }
+
+    /// Adds the quadrilateral `corners` (in order around it) as two triangles.
+    pub fn push_quad(&mut self, corners: [[f32; 3]; 4], color: [f32; 4]) {
+        let [a, b, c, d] = corners;
+        self.triangles.push(Triangle {
+            p: [a, b, c],
+            color,
+        });
+        self.triangles.push(Triangle {
+            p: [a, c, d],
+            color,
+        });
+    }
+
+    /// Adds a rectangle centred at `center` spanned by the unit `axes`
+    /// with `half_extents` along them, and its outline.
+    pub fn push_rectangle(
+        &mut self,
+        center: [f32; 3],
+        axes: [[f32; 3]; 2],
+        half_extents: [f32; 2],
+        color: [f32; 4],
+        outline: [f32; 4],
+    ) {
+        let u = scale(axes[0], half_extents[0]);
+        let v = scale(axes[1], half_extents[1]);
+        let corners = [
+            add(center, add(scale(u, -1.0), scale(v, -1.0))),
+            add(center, add(u, scale(v, -1.0))),
+            add(center, add(u, v)),
+            add(center, add(scale(u, -1.0), v)),
+        ];
+        self.push_quad(corners, color);
+        self.push_loop(&corners, 1.5, outline);
+    }
+
+    /// Adds a disk of `radius` around `center` facing `normal`, as a fan of
+    /// 48 triangles, and its rim.
+    pub fn push_disk(
+        &mut self,
+        center: [f32; 3],
+        normal: [f32; 3],
+        radius: f32,
+        color: [f32; 4],
+        outline: [f32; 4],
+    ) {
+        const SECTORS: usize = 48;
+        let (u, v) = orthonormal_pair(normal);
+        let rim: Vec<[f32; 3]> = (0..SECTORS)
+            .map(|k| {
+                let phi = k as f32 / SECTORS as f32 * std::f32::consts::TAU;
+                add(
+                    center,
+                    add(scale(u, radius * phi.cos()), scale(v, radius * phi.sin())),
+                )
+            })
+            .collect();
+        for k in 0..SECTORS {
+            self.triangles.push(Triangle {
+                p: [center, rim[k], rim[(k + 1) % SECTORS]],
+                color,
+            });
+        }
+        self.push_loop(&rim, 1.5, outline);
+    }
+
+    /// Adds a planar polygon from its `vertices` and a triangulation
+    /// (`triangles` indexes `vertices`; an empty one draws a fan from the
+    /// first vertex, right for convex polygons), and its outline.
+    pub fn push_polygon(
+        &mut self,
+        vertices: &[[f32; 3]],
+        triangles: &[[usize; 3]],
+        color: [f32; 4],
+        outline: [f32; 4],
+    ) {
+        if vertices.len() < 3 {
+            return;
+        }
+        if triangles.is_empty() {
+            for k in 1..vertices.len() - 1 {
+                self.triangles.push(Triangle {
+                    p: [vertices[0], vertices[k], vertices[k + 1]],
+                    color,
+                });
+            }
+        } else {
+            for t in triangles {
+                if let (Some(&a), Some(&b), Some(&c)) =
+                    (vertices.get(t[0]), vertices.get(t[1]), vertices.get(t[2]))
+                {
+                    self.triangles.push(Triangle {
+                        p: [a, b, c],
+                        color,
+                    });
+                }
+            }
+        }
+        self.push_loop(vertices, 1.5, outline);
+    }
+
+    /// Adds an oriented box: `center`, the columns of its rotation `axes`
+    /// (unit vectors) and `half_extents` along them; its twelve edges are
+    /// drawn as lines of `outline` colour.
+    pub fn push_box(
+        &mut self,
+        center: [f32; 3],
+        axes: [[f32; 3]; 3],
+        half_extents: [f32; 3],
+        color: [f32; 4],
+        outline: [f32; 4],
+    ) {
+        let corner = |sx: f32, sy: f32, sz: f32| {
+            add(
+                center,
+                add(
+                    scale(axes[0], sx * half_extents[0]),
+                    add(
+                        scale(axes[1], sy * half_extents[1]),
+                        scale(axes[2], sz * half_extents[2]),
+                    ),
+                ),
+            )
+        };
+        let c: Vec<[f32; 3]> = (0..8)
+            .map(|i| {
+                let s = |bit: usize| if i & bit == 0 { -1.0 } else { 1.0 };
+                corner(s(1), s(2), s(4))
+            })
+            .collect();
+        // Faces as corner indices (bit 0: x, bit 1: y, bit 2: z), counter-
+        // clockwise seen from outside.
+        const FACES: [[usize; 4]; 6] = [
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+        ];
+        for f in FACES {
+            self.push_quad([c[f[0]], c[f[1]], c[f[2]], c[f[3]]], color);
+        }
+        const EDGES: [[usize; 2]; 12] = [
+            [0, 1],
+            [2, 3],
+            [4, 5],
+            [6, 7],
+            [0, 2],
+            [1, 3],
+            [4, 6],
+            [5, 7],
+            [0, 4],
+            [1, 5],
+            [2, 6],
+            [3, 7],
+        ];
+        for [a, b] in EDGES {
+            self.lines.push(Line {
+                a: c[a],
+                b: c[b],
+                width: 1.5,
+                color: outline,
+            });
+        }
+    }
+
+    /// Adds the infinite plane `normal · x + offset = 0` as a square of
+    /// `half_extent` metres around the point of the plane nearest `near`,
+    /// with a few grid lines so its tilt reads. Nothing for a zero normal.
+    pub fn push_plane(
+        &mut self,
+        normal: [f32; 3],
+        offset: f32,
+        near: [f32; 3],
+        half_extent: f32,
+        color: [f32; 4],
+        outline: [f32; 4],
+    ) {
+        let len = norm(normal);
+        if !(len.is_finite() && len > 1e-9) {
+            return;
+        }
+        let n = scale(normal, 1.0 / len);
+        let off = offset / len;
+        let center = add(near, scale(n, -(dot(n, near) + off)));
+        let (u, v) = orthonormal_pair(n);
+        self.push_rectangle(center, [u, v], [half_extent; 2], color, outline);
+        for k in 1..4 {
+            let t = half_extent * (k as f32 / 2.0 - 1.0);
+            for (a, b) in [(u, v), (v, u)] {
+                let p = add(center, scale(a, t));
+                self.lines.push(Line {
+                    a: add(p, scale(b, -half_extent)),
+                    b: add(p, scale(b, half_extent)),
+                    width: 1.0,
+                    color: outline,
+                });
+            }
+        }
     }
 
     /// Adds an arrow from `from` to `to`: a shaft line of `width` pixels and a
@@ -171,6 +394,30 @@ fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
 
 fn scale(a: [f32; 3], s: f32) -> [f32; 3] {
     [a[0] * s, a[1] * s, a[2] * s]
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Two unit vectors spanning the plane orthogonal to `n` (a unit vector).
+fn orthonormal_pair(n: [f32; 3]) -> ([f32; 3], [f32; 3]) {
+    let helper = if n[0].abs() > 0.9 {
+        [0.0, 1.0, 0.0]
+    } else {
+        [1.0, 0.0, 0.0]
+    };
+    let u = cross(helper, n);
+    let u = scale(u, 1.0 / norm(u).max(1e-12));
+    (u, cross(n, u))
 }
 
 fn norm(a: [f32; 3]) -> f32 {

@@ -1,7 +1,7 @@
 // Shaders of the playground renderer.
 //
-// Colours arrive sRGB-encoded (as in CSS). Lighting is computed in linear
-// space; the result is encoded back to sRGB here when the surface format is
+// Colours arrive sRGB-encoded (as in CSS) and are decoded per vertex.
+// Lighting is computed in linear space; the result is encoded back to sRGB here when the surface format is
 // not an sRGB one (`globals.viewport.z == 1`), so the pixels are the same on
 // WebGPU and WebGL2 whichever format the surface ends up with.
 
@@ -78,7 +78,7 @@ fn vs_solid(
     var out: SolidOut;
     out.clip = globals.view_proj * vec4<f32>(centre + radius * n, 1.0);
     out.normal = n;
-    out.color = color;
+    out.color = vec4<f32>(srgb_to_linear(color.rgb), color.a);
     return out;
 }
 
@@ -88,8 +88,7 @@ fn fs_solid(in: SolidOut) -> @location(0) vec4<f32> {
     let key = max(dot(n, globals.key_light.xyz), 0.0);
     let head = max(dot(n, globals.to_camera.xyz), 0.0);
     let light = 0.28 + 0.47 * key + 0.35 * head;
-    let base = srgb_to_linear(in.color.rgb);
-    return vec4<f32>(encode(base * light), in.color.a);
+    return vec4<f32>(encode(in.color.rgb * light), in.color.a);
 }
 
 // ---- Lines: screen-space quads of a given width in pixels ----
@@ -124,11 +123,52 @@ fn vs_line(
     }
     var out: LineOut;
     out.clip = vec4<f32>(c.xy + normal_px / half_px * c.w, c.z, c.w);
-    out.color = color;
+    out.color = vec4<f32>(srgb_to_linear(color.rgb), color.a);
     return out;
 }
 
 @fragment
 fn fs_line(in: LineOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(encode(srgb_to_linear(in.color.rgb)), in.color.a);
+    return vec4<f32>(encode(in.color.rgb), in.color.a);
+}
+
+// ---- Meshes: flat triangles lit from both sides ----
+
+struct MeshOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) normal: vec3<f32>,
+    @location(1) color: vec4<f32>,
+};
+
+@vertex
+fn vs_mesh(
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+) -> MeshOut {
+    var out: MeshOut;
+    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
+    out.normal = normal;
+    out.color = vec4<f32>(srgb_to_linear(color.rgb), color.a);
+    return out;
+}
+
+@fragment
+fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
+    // Light whichever face is seen: turn the normal towards the camera.
+    var n = normalize(in.normal);
+    if dot(n, globals.to_camera.xyz) < 0.0 {
+        n = -n;
+    }
+    let key = max(dot(n, globals.key_light.xyz), 0.0);
+    let head = max(dot(n, globals.to_camera.xyz), 0.0);
+    let light = 0.35 + 0.4 * key + 0.3 * head;
+    return vec4<f32>(encode(in.color.rgb * light), in.color.a);
+}
+
+// ---- Hairlines (the ground grid): one pixel wide, unlit ----
+
+@fragment
+fn fs_hair(in: MeshOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(encode(in.color.rgb), in.color.a);
 }

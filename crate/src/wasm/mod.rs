@@ -18,4 +18,6 @@ pub fn start() {
 }
 
 #[cfg(feature = "render")]
+mod draw;
+#[cfg(feature = "render")]
 mod viewer;

@@ -10,9 +10,12 @@ use serde::{Deserialize, Serialize};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
-use super::convert::{f64_vec, finite_arg, js_error, object_from_js, robot as robot_from_js};
+use super::convert::{
+    f64_vec, finite_arg, from_js, js_error, object_from_js, robot as robot_from_js, to_js,
+};
+use super::draw::{DrawOptions, DrawState, SegmentView, SkeletonView, build_scene};
 use crate::kinematics::{Frames, Robot};
-use crate::render::{BackendRequest, Camera, Capsule, Renderer, Scene, Sphere, View};
+use crate::render::{BackendRequest, Camera, Renderer, Scene, View};
 use crate::skeleton::Skeleton;
 
 /// Options of `Viewer.create`.
@@ -24,11 +27,14 @@ struct ViewerOptions {
     /// `"auto"` (default: 2D top view for planar robots, else 3D), `"3d"`,
     /// `"top"`, `"front"`, `"side"`.
     view: Option<String>,
+    /// 4× multisampling (default: on unless the adapter is a software
+    /// rasteriser).
+    antialias: Option<bool>,
 }
 
 /// What `setDisplay` toggles.
 #[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
 struct Display {
     /// The translucent volumes around the skeleton segments.
     volumes: bool,
@@ -38,6 +44,8 @@ struct Display {
     axes: bool,
     /// The ground grid.
     grid: bool,
+    /// Arrow length per unit of repulsion (s: metres of arrow per m/s).
+    arrow_scale: f64,
 }
 
 impl Default for Display {
@@ -47,6 +55,7 @@ impl Default for Display {
             nodes: true,
             axes: false,
             grid: true,
+            arrow_scale: 0.4,
         }
     }
 }
@@ -56,6 +65,7 @@ impl Default for Display {
 #[serde(rename_all = "camelCase")]
 struct ViewerState {
     backend: &'static str,
+    adapter: String,
     surface_format: String,
     sample_count: u32,
     view: &'static str,
@@ -76,12 +86,6 @@ struct Ray {
     origin: [f64; 3],
     direction: [f64; 3],
 }
-
-const VOLUME_COLOR: [f32; 4] = [0.33, 0.55, 0.85, 0.45];
-const SPINE_COLOR: [f32; 4] = [0.20, 0.24, 0.32, 1.0];
-const NODE_COLOR: [f32; 4] = [0.95, 0.55, 0.15, 1.0];
-const SPINE_RADIUS: f32 = 0.012;
-const NODE_RADIUS: f32 = 0.022;
 
 /// A canvas that draws a robot's skeleton over a ground grid, through WebGPU
 /// or WebGL2.
@@ -106,6 +110,15 @@ pub struct Viewer {
     q: Vec<f64>,
     skeleton: Skeleton,
     frames: Vec<DAffine3>,
+    /// The world last given to `drawWorld` / `drawState` (replaces the
+    /// robot's own skeleton while set).
+    world: Option<DrawState>,
+    /// Id of the highlighted obstacle.
+    selected: Option<String>,
+    /// Centre of the robot's reach (planes are drawn around it).
+    center: glam::DVec3,
+    /// Radius of the robot's reach (m).
+    reach: f64,
     dirty: bool,
 }
 
@@ -114,7 +127,9 @@ impl Viewer {
     /// Starts a viewer on `canvas` (an `HTMLCanvasElement`).
     ///
     /// `options`: `{ backend?: "auto" | "webgpu" | "webgl2", view?: "auto" |
-    /// "3d" | "top" | "front" | "side" }`.
+    /// "3d" | "top" | "front" | "side", antialias?: boolean }` (antialias:
+    /// 4× multisampling; by default on unless the adapter is a software
+    /// rasteriser).
     ///
     /// # Errors
     /// Rejects with an `Error` when `canvas` is not a canvas, an option is
@@ -141,7 +156,7 @@ impl Viewer {
             None | Some("auto") => None,
             Some(name) => Some(View::parse(name).ok_or_else(|| view_error("options.view", name))?),
         };
-        let renderer = Renderer::new(canvas, request)
+        let renderer = Renderer::new(canvas, request, options.antialias)
             .await
             .map_err(|e| JsError::new(&e.to_string()))?;
         let camera = Camera::framing(Vec3::ZERO, 1.0, fixed_view.unwrap_or(View::Orbit));
@@ -156,6 +171,10 @@ impl Viewer {
             q: Vec::new(),
             skeleton: Skeleton::default(),
             frames: Vec::new(),
+            world: None,
+            selected: None,
+            center: glam::DVec3::ZERO,
+            reach: 1.0,
             dirty: true,
         })
     }
@@ -199,8 +218,97 @@ impl Viewer {
         self.q = q;
         self.frames = frames;
         self.skeleton = skeleton;
+        self.center = center;
+        self.reach = reach;
+        self.world = None;
         self.dirty = true;
         Ok(())
+    }
+
+    /// Draws a world state given as a plain object: `{ skeleton: { nodes,
+    /// segments }, obstacles?: [{ id, shape }], controlPoints?: [{ position,
+    /// witness?, repulsion?, transitioning? }], uncertainty?: [{ obstacle,
+    /// radius }] }` (the shape of `World.state()`; other fields are ignored).
+    /// Replaces the robot's own skeleton until the next `setRobot`.
+    /// For a live world prefer `drawWorld`, which copies nothing through JS.
+    ///
+    /// # Errors
+    /// An `Error` naming the field when the object does not have that shape.
+    #[wasm_bindgen(js_name = drawState)]
+    pub fn draw_state(&mut self, state: JsValue) -> Result<(), JsError> {
+        let state: DrawState = from_js("state", state)?;
+        self.world = Some(state);
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Draws the current state of a simulated `World`: its skeleton,
+    /// obstacles, control points, distance lines, repulsion arrows and
+    /// uncertainty regions. Call it once per frame after stepping; the
+    /// geometry is read in Rust and never crosses to JS. Replaces the
+    /// robot's own skeleton until the next `setRobot`.
+    ///
+    /// ```js
+    /// world.advance(0.001, 16);
+    /// viewer.drawWorld(world);
+    /// viewer.render();
+    /// ```
+    #[wasm_bindgen(js_name = drawWorld)]
+    pub fn draw_world(&mut self, world: &super::world::WorldHandle) {
+        let core = world.world();
+        // Without events: the viewer does not draw them.
+        let state = core.state_since(core.event_count());
+        self.world = Some(DrawState::from_world(&state));
+        self.dirty = true;
+    }
+
+    /// Highlights the obstacle with this id (`null` or `undefined`: none).
+    ///
+    /// # Errors
+    /// An `Error` when `id` is neither a string nor null.
+    #[wasm_bindgen(js_name = setSelected)]
+    pub fn set_selected(&mut self, id: JsValue) -> Result<(), JsError> {
+        self.selected = if id.is_null() || id.is_undefined() {
+            None
+        } else {
+            Some(
+                id.as_string()
+                    .ok_or_else(|| JsError::new("setSelected: expected a string id or null"))?,
+            )
+        };
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Where the world point `[x, y, z]` (m) lands on the canvas, in
+    /// drawing-buffer pixels from the top-left corner, or `null` when it is
+    /// behind the eye.
+    ///
+    /// # Errors
+    /// An `Error` unless `point` is three finite numbers.
+    #[wasm_bindgen(js_name = projectPoint)]
+    pub fn project_point(&self, point: JsValue) -> Result<JsValue, JsError> {
+        let p = f64_vec("point", &point)?;
+        let [x, y, z] = p[..] else {
+            return Err(JsError::new("point: expected 3 numbers"));
+        };
+        for (k, c) in [x, y, z].into_iter().enumerate() {
+            finite_arg(&format!("point[{k}]"), c)?;
+        }
+        let (width, height) = self.renderer.size();
+        let projected = self.camera.project(
+            glam::Vec3::new(x as f32, y as f32, z as f32),
+            width as f32,
+            height as f32,
+        );
+        to_js(&projected)
+    }
+
+    /// The camera's viewing direction (unit vector from the eye towards the
+    /// target, world frame): the normal of the view-aligned drag plane.
+    #[wasm_bindgen(js_name = viewDirection)]
+    pub fn view_direction(&self) -> Vec<f64> {
+        (-self.camera.backward()).as_dvec3().to_array().to_vec()
     }
 
     /// Sets the joint vector (rad for revolute joints, m for prismatic ones)
@@ -223,8 +331,10 @@ impl Viewer {
         Ok(())
     }
 
-    /// Chooses what is drawn: `{ volumes?, nodes?, axes?, grid? }` (booleans;
-    /// missing fields take their defaults: volumes, nodes and grid on, axes off).
+    /// Chooses what is drawn: `{ volumes?, nodes?, axes?, grid?,
+    /// arrowScale? }` (booleans, and metres of repulsion arrow per m/s;
+    /// missing fields take their defaults: volumes, nodes and grid on, axes
+    /// off, arrowScale 0.4).
     ///
     /// # Errors
     /// An `Error` naming an unknown or mistyped field.
@@ -310,19 +420,24 @@ impl Viewer {
         Ok(())
     }
 
-    /// Draws one frame; call it from `requestAnimationFrame`.
+    /// Draws one frame when anything changed since the last one (the canvas
+    /// keeps its picture otherwise); call it from `requestAnimationFrame`.
     ///
     /// # Errors
     /// An `Error` when the drawing surface is lost for good.
     pub fn render(&mut self) -> Result<(), JsError> {
-        if self.dirty {
-            self.rebuild_scene();
-            self.renderer.update(&self.scene, &self.camera);
-            self.dirty = false;
+        if !self.dirty {
+            // The canvas keeps the last frame: nothing to draw.
+            return Ok(());
         }
-        self.renderer
+        self.rebuild_scene();
+        self.renderer.update(&self.scene, &self.camera);
+        let presented = self
+            .renderer
             .render()
-            .map_err(|e| JsError::new(&e.to_string()))
+            .map_err(|e| JsError::new(&e.to_string()))?;
+        self.dirty = !presented;
+        Ok(())
     }
 
     /// The picking ray through canvas pixel (`x`, `y`) (drawing-buffer
@@ -354,8 +469,10 @@ impl Viewer {
     /// Only if the snapshot cannot be converted (not expected).
     pub fn state(&self) -> Result<JsValue, JsError> {
         let (width, height) = self.renderer.size();
+        let nodes = self.drawn_nodes();
         let state = ViewerState {
             backend: self.renderer.backend().name(),
+            adapter: self.renderer.adapter_name().to_owned(),
             surface_format: format!("{:?}", self.renderer.surface_format()),
             sample_count: self.renderer.sample_count(),
             view: self.camera.view.name(),
@@ -363,56 +480,53 @@ impl Viewer {
             height,
             dof: self.q.len(),
             q: self.q.clone(),
-            nodes: self.skeleton.nodes.iter().map(|n| n.to_array()).collect(),
-            screen_nodes: self
-                .skeleton
-                .nodes
+            screen_nodes: nodes
                 .iter()
                 .map(|n| {
-                    self.camera
-                        .project(n.as_vec3(), width as f32, height as f32)
+                    self.camera.project(
+                        glam::DVec3::from(*n).as_vec3(),
+                        width as f32,
+                        height as f32,
+                    )
                 })
                 .collect(),
+            nodes,
         };
         serde_wasm_bindgen::to_value(&state).map_err(|e| JsError::new(&e.to_string()))
     }
 }
 
 impl Viewer {
-    /// Rebuilds the scene from the skeleton and the display options.
+    /// Rebuilds the scene from the world (or the robot's own skeleton) and
+    /// the display options.
     fn rebuild_scene(&mut self) {
         let scene = &mut self.scene;
         scene.clear();
         scene.grid = self.display.grid.then(crate::render::Grid::default);
-        for s in &self.skeleton.segments {
-            let (a, b) = self.skeleton.endpoints(s);
-            let (a, b) = (a.as_vec3().to_array(), b.as_vec3().to_array());
-            scene.capsules.push(Capsule {
-                a,
-                b,
-                radius: [SPINE_RADIUS; 2],
-                color: SPINE_COLOR,
-            });
-            if self.display.volumes {
-                let radius = [s.radius[0] as f32, s.radius[1] as f32];
-                scene.capsules.push(Capsule {
-                    a,
-                    b,
-                    radius,
-                    color: VOLUME_COLOR,
-                });
+        let options = DrawOptions {
+            volumes: self.display.volumes,
+            nodes: self.display.nodes,
+            arrow_scale: self.display.arrow_scale,
+            plane_extent: (1.2 * self.reach).clamp(0.5, 5.0),
+        };
+        let own;
+        let state = match &self.world {
+            Some(world) => world,
+            None => {
+                own = DrawState {
+                    skeleton: skeleton_view(&self.skeleton),
+                    ..DrawState::default()
+                };
+                &own
             }
-        }
-        if self.display.nodes {
-            for n in &self.skeleton.nodes {
-                let center = n.as_vec3().to_array();
-                scene.spheres.push(Sphere {
-                    center,
-                    radius: NODE_RADIUS,
-                    color: NODE_COLOR,
-                });
-            }
-        }
+        };
+        build_scene(
+            scene,
+            state,
+            &options,
+            self.selected.as_deref(),
+            self.center.to_array(),
+        );
         if self.display.axes {
             for f in &self.frames {
                 let m = f.matrix3.as_mat3();
@@ -424,6 +538,30 @@ impl Viewer {
                 scene.push_axes(f.translation.as_vec3().to_array(), axes, 0.08, 2.0);
             }
         }
+    }
+
+    /// The skeleton nodes currently drawn (m).
+    fn drawn_nodes(&self) -> Vec<[f64; 3]> {
+        match &self.world {
+            Some(world) => world.skeleton.nodes.clone(),
+            None => self.skeleton.nodes.iter().map(|n| n.to_array()).collect(),
+        }
+    }
+}
+
+/// The drawing's view of a core skeleton.
+fn skeleton_view(skeleton: &Skeleton) -> SkeletonView {
+    SkeletonView {
+        nodes: skeleton.nodes.iter().map(|n| n.to_array()).collect(),
+        segments: skeleton
+            .segments
+            .iter()
+            .map(|s| SegmentView {
+                from: s.from,
+                to: s.to,
+                radius: s.radius,
+            })
+            .collect(),
     }
 }
 

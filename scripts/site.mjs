@@ -1,0 +1,61 @@
+// `npm run build`: the static site in dist/ — the playground page, the
+// documentation page, the embeddable element and the wasm package — ready
+// for any static host (every path is relative).
+//
+//   node scripts/site.mjs [--no-wasm] [--no-opt]
+//   (--no-wasm reuses crate/pkg as it is; --no-opt skips wasm-opt)
+import { spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import path from 'node:path';
+import zlib from 'node:zlib';
+import { repo } from './lib.mjs';
+import { ensureTools } from './tools.mjs';
+import { buildWasm } from './build.mjs';
+
+/** The size budget of the gzipped wasm, bytes (1.5 MB). */
+const LIMIT = 1_500_000;
+const web = path.join(repo, 'web');
+const pkg = path.join(repo, 'crate', 'pkg');
+const dist = path.join(repo, 'dist');
+
+if (!process.argv.includes('--no-wasm')) {
+  if (!ensureTools({ browser: false })) process.exit(1);
+  if (buildWasm('web') !== 0) process.exit(1);
+}
+if (!fs.existsSync(path.join(pkg, 'skeleton_avoidance_bg.wasm'))) {
+  console.error('site: crate/pkg has no wasm; run without --no-wasm');
+  process.exit(1);
+}
+
+fs.rmSync(dist, { recursive: true, force: true });
+fs.mkdirSync(path.join(dist, 'pkg'), { recursive: true });
+for (const f of fs.readdirSync(web)) {
+  if (/\.(html|js|css|json|svg|png)$/.test(f)) fs.copyFileSync(path.join(web, f), path.join(dist, f));
+}
+for (const f of ['skeleton_avoidance.js', 'skeleton_avoidance_bg.wasm', 'skeleton_avoidance.d.ts', 'package.json']) {
+  if (fs.existsSync(path.join(pkg, f))) fs.copyFileSync(path.join(pkg, f), path.join(dist, 'pkg', f));
+}
+
+// Shrink the module with binaryen's wasm-opt (the npm package: Debian's
+// binaryen 108 corrupts this module, see the toolchain notes). About a minute.
+const wasmPath = path.join(dist, 'pkg', 'skeleton_avoidance_bg.wasm');
+const wasmOpt = path.join(repo, 'node_modules', '.bin', 'wasm-opt');
+if (!process.argv.includes('--no-opt') && fs.existsSync(wasmOpt)) {
+  const before = fs.statSync(wasmPath).size;
+  const features = ['simd', 'bulk-memory', 'nontrapping-float-to-int', 'sign-ext', 'mutable-globals', 'reference-types', 'multivalue'];
+  const r = spawnSync(wasmOpt, ['-Oz', ...features.map((f) => `--enable-${f}`), wasmPath, '-o', wasmPath], { stdio: 'inherit' });
+  if (r.status !== 0) {
+    console.error('site: wasm-opt failed');
+    process.exit(1);
+  }
+  console.log(`site: wasm-opt -Oz ${(before / 1e6).toFixed(3)} MB -> ${(fs.statSync(wasmPath).size / 1e6).toFixed(3)} MB`);
+}
+const wasm = fs.readFileSync(wasmPath);
+// Level 6, as `gzip -c` (and most servers) compress.
+const gz = zlib.gzipSync(wasm, { level: 6 }).length;
+const mb = (n) => (n / 1e6).toFixed(3);
+console.log(`site: dist/ written (${fs.readdirSync(dist).length} entries); wasm ${mb(wasm.length)} MB, ${mb(gz)} MB gzipped (limit ${mb(LIMIT)} MB)`);
+if (gz > LIMIT) {
+  console.error('site: the wasm is over the size limit');
+  process.exit(1);
+}
