@@ -88,7 +88,7 @@ for (const r of rows) {
 // Native: criterion's median from the `control_step` bench run above; wasm:
 // the same workload (`benchControlStep`) timed from Node in this run.
 function criterionMedian(id) {
-  const file = path.join(repo, 'target', 'criterion', ...id.split('/'), 'new', 'estimates.json');
+  const file = path.join(repo, 'target', 'criterion', id.replaceAll('/', '_'), 'new', 'estimates.json');
   return JSON.parse(fs.readFileSync(file, 'utf8')).median.point_estimate;
 }
 const stepRows = [];
