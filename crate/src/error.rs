@@ -111,3 +111,54 @@ pub fn non_negative(field: &str, x: f64) -> Result<f64, FieldError> {
         Err(FieldError::new(field, "must be >= 0"))
     }
 }
+
+/// Separates an inner path from its reason in the message of an error raised
+/// by a deserialiser that buffers its input (a robot or shape read through a
+/// JSON value): `\u{1f}path\u{1f}reason`. [`from_serde_path`] splices the
+/// inner path back into the outer one.
+const NESTED_MARK: char = '\u{1f}';
+
+/// The message for an error at `path` inside a buffered value; see
+/// [`from_serde_path`].
+#[must_use]
+pub fn nested_message(path: &str, reason: &str) -> String {
+    format!("{NESTED_MARK}{path}{NESTED_MARK}{reason}")
+}
+
+fn join_path(outer: &str, inner: &str) -> String {
+    match (outer.is_empty(), inner.is_empty()) {
+        (_, true) => outer.to_owned(),
+        (true, false) => inner.to_owned(),
+        (false, false) if inner.starts_with('[') => format!("{outer}{inner}"),
+        (false, false) => format!("{outer}.{inner}"),
+    }
+}
+
+/// A [`FieldError`] from the path and message of a `serde_path_to_error`
+/// error: nested paths (see [`nested_message`]) are spliced in, `"."` becomes
+/// the empty path, and "missing field `x`" becomes `x: missing`.
+#[must_use]
+pub fn from_serde_path(path: &str, message: &str) -> FieldError {
+    let mut path = if path == "." {
+        String::new()
+    } else {
+        path.to_owned()
+    };
+    let mut reason = message.to_owned();
+    while let Some(rest) = reason.strip_prefix(NESTED_MARK) {
+        let Some((inner, tail)) = rest.split_once(NESTED_MARK) else {
+            break;
+        };
+        let inner = if inner == "." { "" } else { inner };
+        path = join_path(&path, inner);
+        reason = tail.to_owned();
+    }
+    if let Some(name) = reason
+        .strip_prefix("missing field `")
+        .map(|r| r.trim_end_matches('`').to_owned())
+    {
+        path = join_path(&path, &name);
+        reason = "missing".to_owned();
+    }
+    FieldError::new(path, reason)
+}

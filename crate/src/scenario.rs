@@ -82,7 +82,7 @@ fn nested<T: serde::de::DeserializeOwned, E: serde::de::Error>(
         if path == "." {
             E::custom(e.inner())
         } else {
-            E::custom(format!("{path}: {}", e.inner()))
+            E::custom(crate::error::nested_message(&path, &e.inner().to_string()))
         }
     })
 }
@@ -672,9 +672,7 @@ impl Scenario {
     pub fn from_json(json: &str) -> Result<Self, ScenarioError> {
         let mut de = serde_json::Deserializer::from_str(json);
         let s: Self = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            let path = e.path().to_string();
-            let path = if path == "." { String::new() } else { path };
-            FieldError::new(path, e.inner().to_string())
+            crate::error::from_serde_path(&e.path().to_string(), &e.inner().to_string())
         })?;
         s.validate()?;
         Ok(s)

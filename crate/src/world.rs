@@ -1271,7 +1271,8 @@ impl World {
             .map_err(|e| FieldError::new("controller", e.to_string()))?;
         merge_json(&mut base, partial);
         let cfg: ControllerConfig = serde_path_to_error::deserialize(base).map_err(|e| {
-            FieldError::new(format!("controller.{}", e.path()), e.inner().to_string())
+            crate::error::from_serde_path(&e.path().to_string(), &e.inner().to_string())
+                .within("controller")
         })?;
         Ok(cfg)
     }

@@ -360,6 +360,19 @@ fn scenario_validation_names_the_json_path_and_the_reason() {
         { "id": "c", "shape": { "type": "sphere", "center": [1, 0, 1], "radius": -0.2 } } ] }"#;
     let e = Scenario::from_json(bad).unwrap_err();
     assert_eq!(e.to_string(), "obstacles[2].shape.radius: must be > 0");
+    // Type errors inside a buffered shape or robot keep their full path.
+    let short = r#"{ "robot": { "preset": "lwr4" }, "dt": 0.001, "duration": 1, "obstacles": [
+        { "id": "a", "shape": { "type": "sphere", "center": [0, 0], "radius": 0.1 } } ] }"#;
+    let e = Scenario::from_json(short).unwrap_err().to_string();
+    assert!(e.starts_with("obstacles[0].shape.center: invalid length 2"), "{e}");
+    let robot = r#"{ "robot": { "convention": "standard", "joints": [ { "a": 0.4, "alpha": "x", "d": 0, "theta": 0 } ] },
+        "dt": 0.001, "duration": 1, "obstacles": [] }"#;
+    let e = Scenario::from_json(robot).unwrap_err().to_string();
+    assert!(e.starts_with("robot.joints[0].alpha: invalid type"), "{e}");
+    let missing = r#"{ "robot": { "preset": "lwr4" }, "dt": 0.001, "duration": 1, "obstacles": [
+        { "id": "a", "shape": { "type": "human" } } ] }"#;
+    let e = Scenario::from_json(missing).unwrap_err().to_string();
+    assert!(e.starts_with("obstacles[0].shape"), "{e}");
     let cases = [
         (
             r#"{ "robot": { "preset": "lwr4" }, "obstacles": [], "dt": 0, "duration": 1 }"#,

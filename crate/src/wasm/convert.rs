@@ -63,27 +63,15 @@ pub fn from_js_at<T: DeserializeOwned>(
         js_error(&e)
     })?;
     serde_path_to_error::deserialize(json).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner().to_string();
-        let reason = if inner.contains(NON_FINITE_TAG) {
+        let FieldError {
+            field: path,
+            reason,
+        } = crate::error::from_serde_path(&e.path().to_string(), &e.inner().to_string());
+        let reason = if reason.contains(NON_FINITE_TAG) {
             "not a finite number".to_owned()
         } else {
-            inner
+            reason
         };
-        let mut path = if path == "." { String::new() } else { path };
-        let mut reason = reason;
-        // "missing field `radius`" reads better as "radius: missing".
-        if let Some(name) = reason
-            .strip_prefix("missing field `")
-            .map(|r| r.trim_end_matches('`').to_owned())
-        {
-            path = if path.is_empty() {
-                name
-            } else {
-                format!("{path}.{name}")
-            };
-            reason = "missing".to_owned();
-        }
         let err = if path.is_empty() {
             FieldError::new(root, reason)
         } else if prefix.is_empty() {
