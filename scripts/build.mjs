@@ -3,8 +3,39 @@
 //   crate/pkg-node  --target nodejs, the numerics only (Node tests, benches)
 //
 //   node scripts/build.mjs [web] [node] [--dev]
+import crypto from 'node:crypto';
+import fs from 'node:fs';
 import path from 'node:path';
+import zlib from 'node:zlib';
 import { repo, run } from './lib.mjs';
+
+/** Features the module uses, for binaryen. */
+const WASM_FEATURES = ['simd', 'bulk-memory', 'nontrapping-float-to-int', 'sign-ext', 'mutable-globals', 'reference-types', 'multivalue'];
+
+/**
+ * Shrinks a release module with binaryen's `wasm-opt -Oz` (the pinned npm
+ * package; Debian's binaryen corrupts this module). The result is cached by
+ * the input's hash under target/, so an unchanged module costs nothing.
+ * Returns the gzipped size in bytes.
+ */
+export function shrinkWasm(file) {
+  const wasmOpt = path.join(repo, 'node_modules', '.bin', 'wasm-opt');
+  const input = fs.readFileSync(file);
+  if (fs.existsSync(wasmOpt)) {
+    const hash = crypto.createHash('sha256').update(input).digest('hex').slice(0, 16);
+    const cacheDir = path.join(repo, 'target', 'wasm-opt-cache');
+    const cached = path.join(cacheDir, `${hash}.wasm`);
+    if (!fs.existsSync(cached)) {
+      fs.mkdirSync(cacheDir, { recursive: true });
+      console.log('build: wasm-opt -Oz (about a minute, once per change of the module)');
+      const status = run(wasmOpt, ['-Oz', ...WASM_FEATURES.map((f) => `--enable-${f}`), file, '-o', `${cached}.tmp`]);
+      if (status !== 0) return -1;
+      fs.renameSync(`${cached}.tmp`, cached);
+    }
+    fs.copyFileSync(cached, file);
+  }
+  return zlib.gzipSync(fs.readFileSync(file), { level: 6 }).length;
+}
 
 export function buildWasm(which, { dev = false } = {}) {
   const profile = dev ? '--dev' : '--release';
@@ -12,7 +43,12 @@ export function buildWasm(which, { dev = false } = {}) {
     web: ['build', profile, '--target', 'web', '--out-dir', 'pkg', '--mode', 'no-install', '--', '--features', 'render'],
     node: ['build', profile, '--target', 'nodejs', '--out-dir', 'pkg-node', '--mode', 'no-install'],
   };
-  return run('wasm-pack', targets[which], { cwd: path.join(repo, 'crate') });
+  const status = run('wasm-pack', targets[which], { cwd: path.join(repo, 'crate') });
+  if (status !== 0 || which !== 'web' || dev) return status;
+  const gz = shrinkWasm(path.join(repo, 'crate', 'pkg', 'skeleton_avoidance_bg.wasm'));
+  if (gz < 0) return 1;
+  console.log(`build: crate/pkg wasm ${(gz / 1e6).toFixed(3)} MB gzipped (budget 1.5 MB)`);
+  return 0;
 }
 
 if (process.argv[1] && path.resolve(process.argv[1]) === path.join(repo, 'scripts', 'build.mjs')) {

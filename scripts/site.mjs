@@ -2,9 +2,8 @@
 // documentation page, the embeddable element and the wasm package — ready
 // for any static host (every path is relative).
 //
-//   node scripts/site.mjs [--no-wasm] [--no-opt]
-//   (--no-wasm reuses crate/pkg as it is; --no-opt skips wasm-opt)
-import { spawnSync } from 'node:child_process';
+//   node scripts/site.mjs [--no-wasm]
+//   (--no-wasm reuses crate/pkg as it is)
 import fs from 'node:fs';
 import path from 'node:path';
 import zlib from 'node:zlib';
@@ -36,20 +35,9 @@ for (const f of ['skeleton_avoidance.js', 'skeleton_avoidance_bg.wasm', 'skeleto
   if (fs.existsSync(path.join(pkg, f))) fs.copyFileSync(path.join(pkg, f), path.join(dist, 'pkg', f));
 }
 
-// Shrink the module with binaryen's wasm-opt (the npm package: Debian's
-// binaryen 108 corrupts this module, see the toolchain notes). About a minute.
+// The release build of crate/pkg is already shrunk by wasm-opt -Oz
+// (scripts/build.mjs, cached by hash).
 const wasmPath = path.join(dist, 'pkg', 'skeleton_avoidance_bg.wasm');
-const wasmOpt = path.join(repo, 'node_modules', '.bin', 'wasm-opt');
-if (!process.argv.includes('--no-opt') && fs.existsSync(wasmOpt)) {
-  const before = fs.statSync(wasmPath).size;
-  const features = ['simd', 'bulk-memory', 'nontrapping-float-to-int', 'sign-ext', 'mutable-globals', 'reference-types', 'multivalue'];
-  const r = spawnSync(wasmOpt, ['-Oz', ...features.map((f) => `--enable-${f}`), wasmPath, '-o', wasmPath], { stdio: 'inherit' });
-  if (r.status !== 0) {
-    console.error('site: wasm-opt failed');
-    process.exit(1);
-  }
-  console.log(`site: wasm-opt -Oz ${(before / 1e6).toFixed(3)} MB -> ${(fs.statSync(wasmPath).size / 1e6).toFixed(3)} MB`);
-}
 const wasm = fs.readFileSync(wasmPath);
 // Level 6, as `gzip -c` (and most servers) compress.
 const gz = zlib.gzipSync(wasm, { level: 6 }).length;
