@@ -364,7 +364,10 @@ fn scenario_validation_names_the_json_path_and_the_reason() {
     let short = r#"{ "robot": { "preset": "lwr4" }, "dt": 0.001, "duration": 1, "obstacles": [
         { "id": "a", "shape": { "type": "sphere", "center": [0, 0], "radius": 0.1 } } ] }"#;
     let e = Scenario::from_json(short).unwrap_err().to_string();
-    assert!(e.starts_with("obstacles[0].shape.center: invalid length 2"), "{e}");
+    assert!(
+        e.starts_with("obstacles[0].shape.center: invalid length 2"),
+        "{e}"
+    );
     let robot = r#"{ "robot": { "convention": "standard", "joints": [ { "a": 0.4, "alpha": "x", "d": 0, "theta": 0 } ] },
         "dt": 0.001, "duration": 1, "obstacles": [] }"#;
     let e = Scenario::from_json(robot).unwrap_err().to_string();
