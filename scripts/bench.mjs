@@ -1,6 +1,10 @@
-// `npm run bench`: the criterion benchmarks natively, then the same workloads
-// compiled to wasm and timed in Node, printed as one table with ratios
+// `npm run bench`: the criterion benchmarks natively (their own reports),
+// then, for the workloads with a native/wasm goal, tables that alternate
+// native rounds (the bench binaries' batch mode) with the same rounds in wasm
+// under Node, so that both see the same machine load and the ratios are
 // measured in this run. Machines are shared and noisy: medians, not means.
+//
+//   npm run bench [-- --tables]   (--tables skips the criterion runs)
 import fs from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
@@ -14,7 +18,8 @@ const benches = fs
   .filter((f) => f.endsWith('.rs'))
   .map((f) => f.slice(0, -3));
 
-const quick = process.argv.includes('--wasm-only'); // reuse the last native run
+// --tables: only the native/wasm tables, without the full criterion runs.
+const quick = process.argv.includes('--tables');
 if (!ensureTools()) process.exit(1);
 for (const b of quick ? [] : benches) {
   console.log(`\n=== cargo bench --bench ${b}`);
@@ -25,86 +30,77 @@ if (buildWasm('node') !== 0) process.exit(1);
 const require = createRequire(import.meta.url);
 const sa = require(path.join(repo, 'crate', 'pkg-node', 'skeleton_avoidance.js'));
 
-/** One native round: the bench binary's batch mode, `{ id: ns }`. */
-function nativeRound() {
-  const r = spawnSync('cargo', ['bench', '-q', '-p', 'skeleton-avoidance', '--bench', 'kinematics'], {
+/** One native round of bench `bench` in its batch mode: `{ id: ns per step }`. */
+function nativeRound(bench) {
+  const r = spawnSync('cargo', ['bench', '-q', '-p', 'skeleton-avoidance', '--bench', bench], {
     cwd: repo,
     encoding: 'utf8',
     env: { ...process.env, SA_BATCH_ROUND: '1' },
   });
-  if (r.status !== 0) throw new Error(`native round failed: ${r.stderr}`);
+  if (r.status !== 0) throw new Error(`native round of ${bench} failed: ${r.stderr}`);
   return Object.fromEntries(
-    r.stdout.split('\n').filter((l) => l.startsWith('kinematics_step/')).map((l) => {
+    r.stdout.split('\n').filter((l) => /^\S+ [0-9.]+$/.test(l.trim())).map((l) => {
       const [id, ns] = l.trim().split(/\s+/);
       return [id, Number(ns)];
     }),
   );
 }
 
-/** One wasm round: the same batches inside wasm, timed from Node. */
-function wasmRound() {
-  const out = {};
-  for (const name of ['lwr4', 'panda', 'dual-arm']) {
-    const batch = 2000;
-    sa.benchKinematicsStep(name, 2 * batch); // warm-up (compilation tiers)
-    const per = [];
-    for (let s = 0; s < 15; s++) {
-      const t0 = process.hrtime.bigint();
-      sa.benchKinematicsStep(name, batch);
-      per.push(Number(process.hrtime.bigint() - t0) / batch);
-    }
-    per.sort((a, b) => a - b);
-    out[`kinematics_step/${name}`] = per[Math.floor(per.length / 2)];
-  }
-  return out;
-}
-
 const median = (xs) => xs.slice().sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 
-// Alternate native and wasm rounds so that both see the same machine load.
-const rounds = { native: {}, wasm: {} };
-for (let k = 0; k < 7; k++) {
-  for (const [kind, fn] of [['native', nativeRound], ['wasm', wasmRound]]) {
-    for (const [id, ns] of Object.entries(fn())) (rounds[kind][id] ??= []).push(ns);
-  }
-}
-const rows = Object.keys(rounds.native).map((id) => ({
-  id,
-  native: median(rounds.native[id]),
-  wasm: median(rounds.wasm[id]),
-  ratios: rounds.native[id].map((n, k) => rounds.wasm[id][k] / n),
-  goal: id.endsWith('/lwr4') ? 'native ≤ 2000 ns, wasm/native ≤ 1.5' : '',
-}));
-
-console.log('\n=== FK + skeleton + 8 control-point Jacobians (J_θ, J_a, J_d), median per step');
-console.log('(7 alternating native/wasm rounds of 15 batches × 2000 steps; medians; ratio = median of per-round ratios)');
-console.log(`${'workload'.padEnd(26)} ${'native ns'.padStart(10)} ${'wasm ns'.padStart(10)} ${'wasm/native'.padStart(12)}  goal`);
-for (const r of rows) {
-  console.log(`${r.id.padEnd(26)} ${r.native.toFixed(0).padStart(10)} ${r.wasm.toFixed(0).padStart(10)} ${median(r.ratios).toFixed(2).padStart(12)}  ${r.goal}`);
-}
-
-// One full control step of lwr4 among N static spheres (issue 5): FK,
-// skeleton, scene query, control points, transitions, Jacobians, controller.
-// Native: criterion's median from the `control_step` bench run above; wasm:
-// the same workload (`benchControlStep`) timed from Node in this run.
-function criterionMedian(id) {
-  const file = path.join(repo, 'target', 'criterion', id.replaceAll('/', '_'), 'new', 'estimates.json');
-  return JSON.parse(fs.readFileSync(file, 'utf8')).median.point_estimate;
-}
-const stepRows = [];
-for (const [n, goal, batch] of [[10, 10, 2000], [100, 50, 500], [1000, 330, 100]]) {
-  const id = `control_step/lwr4/${n}`;
-  sa.benchControlStep(batch, n); // warm-up (compilation tiers)
+/** Median ns per step of `fn(batch)` over `samples` timed batches, after a warm-up. */
+function wasmMedian(fn, batch, samples) {
+  fn(batch); // warm-up (compilation tiers)
   const per = [];
-  for (let s = 0; s < 15; s++) {
+  for (let s = 0; s < samples; s++) {
     const t0 = process.hrtime.bigint();
-    sa.benchControlStep(batch, n);
+    fn(batch);
     per.push(Number(process.hrtime.bigint() - t0) / batch);
   }
-  stepRows.push({ id, native: criterionMedian(id), wasm: median(per), goal: `native ≤ ${goal} µs, wasm/native ≤ 1.5` });
+  return median(per);
 }
-console.log('\n=== full control step (lwr4 among N spheres, 1 kHz), median per step');
-console.log(`${'workload'.padEnd(26)} ${'native ns'.padStart(10)} ${'wasm ns'.padStart(10)} ${'wasm/native'.padStart(12)}  goal`);
-for (const r of stepRows) {
-  console.log(`${r.id.padEnd(26)} ${r.native.toFixed(0).padStart(10)} ${r.wasm.toFixed(0).padStart(10)} ${(r.wasm / r.native).toFixed(2).padStart(12)}  ${r.goal}`);
+
+/**
+ * Alternates native and wasm rounds (`rounds` each) so that both see the same
+ * machine load; prints one table with medians and the median per-round ratio.
+ */
+function table(title, bench, wasm, goals, rounds) {
+  const samples = { native: {}, wasm: {} };
+  for (let k = 0; k < rounds; k++) {
+    for (const [kind, fn] of [['native', () => nativeRound(bench)], ['wasm', wasm]]) {
+      for (const [id, ns] of Object.entries(fn())) (samples[kind][id] ??= []).push(ns);
+    }
+  }
+  console.log(`\n=== ${title}`);
+  console.log(`(${rounds} alternating native/wasm rounds; medians per step; ratio = median of the per-round ratios)`);
+  console.log(`${'workload'.padEnd(26)} ${'native µs'.padStart(10)} ${'wasm µs'.padStart(10)} ${'wasm/native'.padStart(12)}  goal`);
+  for (const id of Object.keys(samples.native)) {
+    const n = samples.native[id];
+    const w = samples.wasm[id] ?? [];
+    const ratio = median(n.map((x, k) => w[k] / x));
+    const us = (x) => (x / 1000).toFixed(x < 10_000 ? 3 : 1).padStart(10);
+    console.log(`${id.padEnd(26)} ${us(median(n))} ${us(median(w))} ${ratio.toFixed(2).padStart(12)}  ${goals[id] ?? ''}`);
+  }
 }
+
+table(
+  'FK + skeleton + 8 control-point Jacobians (J_θ, J_a, J_d)',
+  'kinematics',
+  () => Object.fromEntries(['lwr4', 'panda', 'dual-arm'].map((name) =>
+    [`kinematics_step/${name}`, wasmMedian((n) => sa.benchKinematicsStep(name, n), 2000, 15)])),
+  { 'kinematics_step/lwr4': 'native ≤ 2 µs, wasm/native ≤ 1.5' },
+  7,
+);
+
+table(
+  'full control step: lwr4 among N spheres (FK, skeleton, scene query, control points, transitions, Jacobians, controller)',
+  'control_step',
+  () => Object.fromEntries([[10, 500], [100, 500], [1000, 100]].map(([n, batch]) =>
+    [`control_step/lwr4/${n}`, wasmMedian((k) => sa.benchControlStep(k, n), batch, 9)])),
+  {
+    'control_step/lwr4/10': 'native ≤ 10 µs, wasm/native ≤ 1.5',
+    'control_step/lwr4/100': 'native ≤ 50 µs, wasm/native ≤ 1.5',
+    'control_step/lwr4/1000': 'native ≤ 330 µs, wasm/native ≤ 1.5',
+  },
+  5,
+);

@@ -1,34 +1,65 @@
 //! One full control step (FK, skeleton, scene query, control points,
 //! transitions, Jacobians, controller, integration) of `lwr4` among N static
 //! sphere obstacles. Goals (issue 5): ≤ 10 / 50 / 330 µs median for N = 10 /
-//! 100 / 1000 natively; `npm run bench` can time the same workload in wasm
-//! through `benchControlStep`.
+//! 100 / 1000 natively, and wasm within 1.5×.
+//!
+//! `cargo bench --bench control_step` runs criterion. With `SA_BATCH_ROUND=1`
+//! it times one round of batches and prints `name median_ns_per_step` lines;
+//! `npm run bench` alternates such rounds with the same rounds in wasm
+//! (`benchControlStep`), so that the ratio is measured under the same load.
 
-use criterion::{Criterion, criterion_group, criterion_main};
-use skeleton_avoidance::world::control_step_workload;
+use criterion::Criterion;
+use skeleton_avoidance::world::{World, control_step_workload};
 use std::hint::black_box;
+use std::time::Instant;
 
-fn control_step(c: &mut Criterion) {
-    for n in [10, 20, 100, 1000] {
-        let Ok(mut world) = control_step_workload(n) else {
-            continue;
-        };
+const SIZES: [usize; 4] = [10, 20, 100, 1000];
+
+/// Steps `world`, rewinding to `start` every 4000 steps so that the scripted
+/// 4 s scene does not drift.
+fn step(world: &mut World, start: &World, steps: &mut u32) -> f64 {
+    *steps += 1;
+    if *steps == 4000 {
+        *world = start.clone();
+        *steps = 0;
+    }
+    world.step(0.001);
+    world.time()
+}
+
+fn criterion_benches(c: &mut Criterion) {
+    for n in SIZES {
+        let Ok(mut world) = control_step_workload(n) else { continue };
         let start = world.clone();
         let mut steps = 0;
         c.bench_function(&format!("control_step/lwr4/{n}"), |b| {
-            b.iter(|| {
-                // Stay within the scripted 4 s so the workload does not drift.
-                steps += 1;
-                if steps == 4000 {
-                    world = start.clone();
-                    steps = 0;
-                }
-                world.step(0.001);
-                black_box(world.time())
-            });
+            b.iter(|| black_box(step(&mut world, &start, &mut steps)));
         });
     }
 }
 
-criterion_group!(benches, control_step);
-criterion_main!(benches);
+fn main() {
+    if std::env::var_os("SA_BATCH_ROUND").is_some() {
+        for n in [10, 100, 1000] {
+            let Ok(mut world) = control_step_workload(n) else { continue };
+            let start = world.clone();
+            let mut steps = 0;
+            let batch: u32 = if n >= 1000 { 100 } else { 500 };
+            let mut per: Vec<f64> = (0..9)
+                .map(|_| {
+                    let t = Instant::now();
+                    for _ in 0..batch {
+                        black_box(step(&mut world, &start, &mut steps));
+                    }
+                    t.elapsed().as_nanos() as f64 / f64::from(batch)
+                })
+                .collect();
+            per.sort_by(f64::total_cmp);
+            println!("control_step/lwr4/{n} {:.1}", per[per.len() / 2]);
+        }
+        return;
+    }
+    let mut c = Criterion::default().configure_from_args();
+    criterion_benches(&mut c);
+    c.final_summary();
+}
