@@ -29,7 +29,9 @@ fn step(world: &mut World, start: &World, steps: &mut u32) -> f64 {
 
 fn criterion_benches(c: &mut Criterion) {
     for n in SIZES {
-        let Ok(mut world) = control_step_workload(n) else { continue };
+        let Ok(mut world) = control_step_workload(n) else {
+            continue;
+        };
         let start = world.clone();
         let mut steps = 0;
         c.bench_function(&format!("control_step/lwr4/{n}"), |b| {
@@ -41,7 +43,9 @@ fn criterion_benches(c: &mut Criterion) {
 fn main() {
     if std::env::var_os("SA_BATCH_ROUND").is_some() {
         for n in [10, 100, 1000] {
-            let Ok(mut world) = control_step_workload(n) else { continue };
+            let Ok(mut world) = control_step_workload(n) else {
+                continue;
+            };
             let start = world.clone();
             let mut steps = 0;
             let batch: u32 = if n >= 1000 { 100 } else { 500 };

@@ -213,6 +213,55 @@ impl Serialize for ShapeSpec {
     }
 }
 
+/// How the times of a list of timed points must grow.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum TimeOrder {
+    /// Equal consecutive times allowed (a jump between waypoints).
+    NonDecreasing,
+    /// Strictly increasing (a trajectory to interpolate).
+    Increasing,
+}
+
+/// Checks timed points: at least one, one time per point, finite values,
+/// times ordered as `order` says.
+fn check_timed_points(
+    points: &[[f64; 3]],
+    times: &[f64],
+    order: TimeOrder,
+) -> Result<(), FieldError> {
+    if points.is_empty() {
+        return Err(FieldError::new("points", "needs at least one point"));
+    }
+    if points.len() != times.len() {
+        return Err(FieldError::new(
+            "times",
+            format!(
+                "expected {} times (one per point), got {}",
+                points.len(),
+                times.len()
+            ),
+        ));
+    }
+    for (k, p) in points.iter().enumerate() {
+        finite3(&format!("points[{k}]"), DVec3::from_array(*p))?;
+    }
+    for (k, t) in times.iter().enumerate() {
+        finite(&format!("times[{k}]"), *t)?;
+        if k > 0 {
+            match order {
+                TimeOrder::NonDecreasing if *t < times[k - 1] => {
+                    return Err(FieldError::new(format!("times[{k}]"), "must not decrease"));
+                }
+                TimeOrder::Increasing if *t <= times[k - 1] => {
+                    return Err(FieldError::new(format!("times[{k}]"), "must increase"));
+                }
+                _ => {}
+            }
+        }
+    }
+    Ok(())
+}
+
 fn translate3(p: [f64; 3], t: DVec3) -> [f64; 3] {
     (DVec3::from_array(p) + t).to_array()
 }
@@ -365,28 +414,7 @@ impl Motion {
                 times,
                 repeat,
             } => {
-                if points.is_empty() {
-                    return Err(FieldError::new("points", "needs at least one point"));
-                }
-                if points.len() != times.len() {
-                    return Err(FieldError::new(
-                        "times",
-                        format!(
-                            "expected {} times (one per point), got {}",
-                            points.len(),
-                            times.len()
-                        ),
-                    ));
-                }
-                for (k, p) in points.iter().enumerate() {
-                    finite3(&format!("points[{k}]"), DVec3::from_array(*p))?;
-                }
-                for (k, t) in times.iter().enumerate() {
-                    finite(&format!("times[{k}]"), *t)?;
-                    if k > 0 && *t < times[k - 1] {
-                        return Err(FieldError::new(format!("times[{k}]"), "must not decrease"));
-                    }
-                }
+                check_timed_points(points, times, TimeOrder::NonDecreasing)?;
                 if *repeat && times.last().copied().unwrap_or(0.0) <= times[0] {
                     return Err(FieldError::new(
                         "loop",
@@ -550,28 +578,7 @@ impl TaskSpec {
                 Ok(())
             }
             Self::Trajectory { points, times, .. } => {
-                if points.is_empty() {
-                    return Err(FieldError::new("points", "needs at least one point"));
-                }
-                if points.len() != times.len() {
-                    return Err(FieldError::new(
-                        "times",
-                        format!(
-                            "expected {} times (one per point), got {}",
-                            points.len(),
-                            times.len()
-                        ),
-                    ));
-                }
-                for (k, p) in points.iter().enumerate() {
-                    finite3(&format!("points[{k}]"), DVec3::from_array(*p))?;
-                }
-                for (k, t) in times.iter().enumerate() {
-                    finite(&format!("times[{k}]"), *t)?;
-                    if k > 0 && *t <= times[k - 1] {
-                        return Err(FieldError::new(format!("times[{k}]"), "must increase"));
-                    }
-                }
+                check_timed_points(points, times, TimeOrder::Increasing)?;
                 Ok(())
             }
         }
