@@ -7,16 +7,11 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { serve } from '../../scripts/serve.mjs';
-import { launch, collectErrors, frames } from './chromium.mjs';
-import { decodePng, pixel } from './png.mjs';
+import { launch, collectErrors, frames, repo, artifacts } from './chromium.mjs';
+import { decodePng, pixel, BACKGROUND, colourDistance } from './png.mjs';
 
-const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const artifacts = path.join(repo, 'tests', 'artifacts');
 
-/** The page's background, sRGB (0.96, 0.965, 0.975) in bytes. */
-const BACKGROUND = [245, 246, 249];
 
 let server;
 let baseUrl;
@@ -27,11 +22,6 @@ before(async () => {
 });
 
 after(() => new Promise((resolve) => server.close(resolve)));
-
-/** Distance between two colours (sum of absolute channel differences). */
-function colourDistance(a, b) {
-  return Math.abs(a[0] - b[0]) + Math.abs(a[1] - b[1]) + Math.abs(a[2] - b[2]);
-}
 
 /** Points along every link of the arm, in canvas pixels (quarter, half, three quarters). */
 function linkPoints(screenNodes) {

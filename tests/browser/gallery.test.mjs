@@ -5,13 +5,10 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { serve } from '../../scripts/serve.mjs';
-import { launch, collectErrors } from './chromium.mjs';
+import { launch, collectErrors, repo, artifacts } from './chromium.mjs';
 import { decodePng, pixel } from './png.mjs';
 
-const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const artifacts = path.join(repo, 'tests', 'artifacts');
 let server;
 let baseUrl;
 

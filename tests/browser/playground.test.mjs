@@ -9,16 +9,12 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 import { spawnSync } from 'node:child_process';
 import { serve } from '../../scripts/serve.mjs';
 import { encodeShare } from '../../web/scenario-io.js';
-import { launch, collectErrors, frames } from './chromium.mjs';
-import { decodePng, pixel } from './png.mjs';
+import { launch, collectErrors, frames, repo, artifacts } from './chromium.mjs';
+import { decodePng, pixel, BACKGROUND, colourDistance } from './png.mjs';
 
-const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const artifacts = path.join(repo, 'tests', 'artifacts');
-const BACKGROUND = [245, 246, 249];
 let server;
 let baseUrl;
 
@@ -27,8 +23,6 @@ before(async () => {
   ({ server, url: baseUrl } = await serve({ port: 0 }));
 });
 after(() => new Promise((resolve) => server.close(resolve)));
-
-const colourDistance = (a, b) => Math.abs(a[0] - b[0]) + Math.abs(a[1] - b[1]) + Math.abs(a[2] - b[2]);
 
 /** How many sampled pixels of the image differ from the background. */
 function inkFraction(img) {

@@ -79,3 +79,11 @@ export function pixel(image, x, y) {
   const i = (Math.round(y) * image.width + Math.round(x)) * 4;
   return [image.data[i], image.data[i + 1], image.data[i + 2], image.data[i + 3]];
 }
+
+/** The page's background, sRGB (0.96, 0.965, 0.975) in bytes. */
+export const BACKGROUND = [245, 246, 249];
+
+/** Distance between two colours (sum of absolute channel differences). */
+export function colourDistance(a, b) {
+  return Math.abs(a[0] - b[0]) + Math.abs(a[1] - b[1]) + Math.abs(a[2] - b[2]);
+}
