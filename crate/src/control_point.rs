@@ -17,10 +17,15 @@
 //! `d'` for `k = i`. Every Jacobian is read from one [`Frames`] pass: the cost
 //! per control point is one walk up the chain with a cross product per column.
 //!
-//! For a prismatic row `i` the cut replaces its joint value by `d'`, so its
-//! own `J_θ` column is zero (the motion along the row is `J_d ḋ`). In the
-//! modified convention joint `i` turns about an axis through the point, so
-//! its own `J_θ` column is zero too.
+//! A prismatic row `i` stretches its `d` spine: a point at fraction
+//! `s = d'/d_i` of it moves with the slide at `s q̇_i` along the row's axis,
+//! and a point past the `d` translation (the `a` part, standard convention)
+//! moves with the slide entirely. So the own `J_θ` column of a prismatic row
+//! is `s z` — continuous along the link, zero at the joint's fixed end, the
+//! full axis beyond the slide — and `ḋ'`, like `ȧ'`, is the point's motion
+//! relative to the link (at a fixed fraction of the spine). In the modified
+//! convention a revolute joint `i` turns about an axis through the point,
+//! so its own `J_θ` column is zero.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -267,9 +272,14 @@ impl DhPoint {
         // (prismatic), or its axis passes through the point (modified).
         out.j_a[own] = frames.a_direction[own];
         out.j_d[own] = frames.axis[own];
-        if robot.convention == Convention::Standard && robot.joints[own].kind == JointType::Revolute
-        {
-            out.j_theta[own] = frames.axis[own].cross(p - frames.axis_point[own]);
+        match (robot.convention, robot.joints[own].kind) {
+            (Convention::Standard, JointType::Revolute) => {
+                out.j_theta[own] = frames.axis[own].cross(p - frames.axis_point[own]);
+            }
+            (_, JointType::Prismatic) => {
+                out.j_theta[own] = frames.axis[own] * self.slide_fraction(robot, frames);
+            }
+            (Convention::Modified, JointType::Revolute) => {}
         }
         let mut k = robot.joints[own].parent;
         while k >= 1 {
@@ -282,6 +292,19 @@ impl DhPoint {
             out.j_a[i] = frames.a_direction[i];
             out.j_d[i] = u;
             k = robot.joints[i].parent;
+        }
+    }
+
+    /// The fraction of a prismatic row's slide that carries the point:
+    /// `d'/d_i` on the `d` spine, 1 past it (see the module docs).
+    fn slide_fraction(&self, robot: &Robot, frames: &Frames) -> f64 {
+        let d_full = frames.d[self.link - 1];
+        if d_full.abs() > SPAN_TOLERANCE {
+            (self.d / d_full).clamp(0.0, 1.0)
+        } else if robot.convention == Convention::Standard {
+            1.0
+        } else {
+            0.0
         }
     }
 
@@ -315,6 +338,15 @@ impl DhPoint {
             pdot += *c * *qd;
         }
         let p = jac.position;
+        // d/dt of the own prismatic column `s z`, with `ṡ = ḋ'/d_i`.
+        let d_full = frames.d[i_own];
+        let s_rate = if d_full.abs() > SPAN_TOLERANCE && (0.0..=1.0).contains(&(self.d / d_full)) {
+            d_rate / d_full
+        } else {
+            0.0
+        };
+        let fraction = self.slide_fraction(robot, frames);
+        let own_slide = |z: DVec3, zdot: DVec3| zdot * fraction + z * s_rate;
         let mut out = PointJacobianRates {
             velocity: pdot,
             j_theta_dot: vec![DVec3::ZERO; n],
@@ -337,7 +369,7 @@ impl DhPoint {
                     let zdot = w_s.cross(z);
                     out.j_theta_dot[i] = match joint.kind {
                         JointType::Revolute => zdot.cross(p - s.translation) + z.cross(pdot - v_s),
-                        JointType::Prismatic if own => DVec3::ZERO,
+                        JointType::Prismatic if own => own_slide(z, zdot),
                         JointType::Prismatic => zdot,
                     };
                     out.j_a_dot[i] = w_k.cross(f.matrix3.x_axis);
@@ -347,6 +379,7 @@ impl DhPoint {
                     let z = f.matrix3.z_axis;
                     let zdot = w_k.cross(z);
                     out.j_theta_dot[i] = match joint.kind {
+                        JointType::Prismatic if own => own_slide(z, zdot),
                         _ if own => DVec3::ZERO,
                         JointType::Revolute => {
                             let m = frames.mids[i];

@@ -10,7 +10,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use glam::{DAffine3, DVec3};
 use skeleton_avoidance::control_point::{DhPoint, a_span, d_span};
 use skeleton_avoidance::kinematics::ik::{self, Damping, Mat, SolveOptions};
-use skeleton_avoidance::kinematics::{Convention, JointSpec, PoseSpec, Robot, RobotSpec, presets};
+use skeleton_avoidance::kinematics::{
+    Convention, Frames, JointSpec, JointType, PoseSpec, Robot, RobotSpec, presets,
+};
 use skeleton_avoidance::rng::Rng;
 use skeleton_avoidance::skeleton::Skeleton;
 
@@ -49,6 +51,25 @@ fn random_point(
     }
 }
 
+/// The material point of `cp` after the joints moved from `before` to
+/// `after`: on a prismatic row the point keeps its fraction of the stretched
+/// `d` spine (and stays past it when it was past it); else the same values.
+trait SameFraction {
+    fn at_same_fraction(&self, r: &Robot, before: &Frames, after: &Frames) -> DhPoint;
+}
+
+impl SameFraction for DhPoint {
+    fn at_same_fraction(&self, r: &Robot, before: &Frames, after: &Frames) -> DhPoint {
+        let i = self.link - 1;
+        let mut p = *self;
+        if r.joints[i].kind == JointType::Prismatic && before.d[i].abs() > 1e-9 {
+            let s = (self.d / before.d[i]).clamp(0.0, 1.0);
+            p.d = self.d + s * (after.d[i] - before.d[i]);
+        }
+        p
+    }
+}
+
 fn close(a: DVec3, b: DVec3, tol: f64) -> bool {
     (a - b).length() <= tol * (1.0 + a.length().max(b.length()))
 }
@@ -74,7 +95,9 @@ fn jacobians_match_finite_differences_on_every_preset() {
                     let pos = |dq: f64| {
                         let mut qq = q.clone();
                         qq[k] += dq;
-                        cp.position(&base, &base.forward(&qq).unwrap())
+                        let f = base.forward(&qq).unwrap();
+                        cp.at_same_fraction(&base, &frames, &f)
+                            .position(&base, &f)
                     };
                     let fd = (pos(H) - pos(-H)) / (2.0 * H);
                     assert!(
@@ -132,12 +155,11 @@ fn jacobian_rates_match_finite_differences_on_every_preset() {
                 let rates = cp.jacobian_rates(&r, &frames, ar, dr).unwrap();
                 let at = |t: f64| {
                     let qq: Vec<f64> = q.iter().zip(&qdot).map(|(a, b)| a + t * b).collect();
-                    let p = DhPoint {
-                        link,
-                        a: cp.a + t * ar,
-                        d: cp.d + t * dr,
-                    };
-                    p.jacobians(&r, &r.forward(&qq).unwrap())
+                    let f = r.forward(&qq).unwrap();
+                    let mut p = cp.at_same_fraction(&r, &frames, &f);
+                    p.a += t * ar;
+                    p.d += t * dr;
+                    p.jacobians(&r, &f)
                 };
                 let (jp, jm) = (at(H), at(-H));
                 let j0 = cp.jacobians(&r, &frames);

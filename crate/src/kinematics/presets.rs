@@ -8,9 +8,39 @@
 //! | `panda` | Franka Emika Panda, 7 DOF | modified (Craig) | Franka Control Interface documentation, "Robot and interface specifications"; the 0.107 m flange is folded into d₇ (a translation along z₇ commutes with θ₇) |
 //! | `ur5` | Universal Robots UR5 (CB3), 6 DOF | standard | Universal Robots, "DH parameters for calculations of kinematics and dynamics" |
 //! | `dual-arm` | a yawing torso carrying two LWR-like 7-DOF arms, in the spirit of DLR's Justin | standard | this project: torso column 0.9 m, shoulders 0.25 m either side of the chest, arms as `lwr4` |
+//! | `stanford` | the Stanford arm: two revolute joints, a prismatic joint, a spherical wrist | standard | Siciliano, Sciavicco, Villani, Oriolo, *Robotics: Modelling, Planning and Control* (2009), §2.9 (the Stanford manipulator); lengths d₁ = 0.412, d₂ = 0.154, d₆ = 0.263 m as in the Stanford arm model of Corke's Robotics Toolbox |
 //!
 //! Link radii are sensible envelopes for each segment (m), not manufacturer
 //! data.
+//!
+//! ## Motion limits
+//!
+//! Every preset joint carries `min`, `max`, `maxVelocity`,
+//! `maxAcceleration`, `maxJerk` and `maxTorque`; [`preset`] fills all of
+//! them, branches included.
+//!
+//! * `panda`: Franka's published joint limits (Franka Control Interface,
+//!   "Robot and interface specifications"): q̇ 2.175 rad/s (joints 1–4),
+//!   2.61 (5–7); q̈ 15, 7.5, 10, 12.5, 15, 20, 20 rad/s²; jerk 7500, 3750,
+//!   5000, 6250, 7500, 10 000, 10 000 rad/s³; torque 87 N·m (1–4), 12 (5–7).
+//! * `lwr4`: KUKA's LWR 4+ specification: ±170° (A1, A3, A5, A7), ±120°
+//!   (A2, A4, A6); 110, 110, 128, 128, 204, 184, 184 °/s; 176, 176, 100,
+//!   100, 100, 38, 38 N·m. KUKA publishes no acceleration or jerk limits:
+//!   this project uses 10 rad/s² (A1–A4) and 15 rad/s² (A5–A7), the order
+//!   of the Panda's, with the Panda's jerk-to-acceleration ratio (500/s).
+//! * `ur5`: Universal Robots' UR5 (CB3) specification: ±360°, 180 °/s on
+//!   every joint; 150 N·m (base, shoulder, elbow: size-3 joints), 28 N·m
+//!   (wrists). UR publishes no hardware acceleration limit: 15 rad/s²
+//!   (base, shoulder, elbow) and 25 rad/s² (wrists), jerk 500/s × that,
+//!   this project's choice.
+//! * `planar3`: this project's choice for a table-top arm of the paper's
+//!   size: ±170°, 2 rad/s, 10 rad/s², 5000 rad/s³, 50 / 30 / 15 N·m.
+//! * `dual-arm`: the torso joint ±170°, 90 °/s, 5 rad/s², 2500 rad/s³,
+//!   300 N·m (a slow, heavy axis); each arm as `lwr4`.
+//! * `stanford`: this project's choice (the original arm's controller
+//!   limits are not published in SI): 1.5 rad/s, 8 rad/s² on joints 1–2;
+//!   the prismatic joint 0.3–1.2 m, 0.5 m/s, 2 m/s², 1000 m/s³, 400 N;
+//!   the wrist 3 rad/s, 15 rad/s².
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -18,27 +48,30 @@ use super::spec::{BranchSpec, Convention, JointSpec, JointType, RadiusSpec, Robo
 use crate::error::FieldError;
 
 /// Names accepted by [`preset`].
-pub const NAMES: [&str; 5] = ["planar3", "lwr4", "panda", "ur5", "dual-arm"];
+pub const NAMES: [&str; 6] = ["planar3", "lwr4", "panda", "ur5", "dual-arm", "stanford"];
 
 fn row(a: f64, alpha: f64, d: f64, radius: f64) -> JointSpec {
     JointSpec {
         a,
         alpha,
         d,
-        theta: 0.0,
-        kind: JointType::Revolute,
-        min: None,
-        max: None,
-        max_velocity: None,
         radius: Some(RadiusSpec::Uniform(radius)),
-        extension: None,
+        ..JointSpec::default()
     }
 }
 
-fn limited(mut j: JointSpec, min: f64, max: f64, max_velocity: f64) -> JointSpec {
-    j.min = Some(min);
-    j.max = Some(max);
-    j.max_velocity = Some(max_velocity);
+/// Position, velocity and acceleration limits; jerk and torque follow.
+fn limited(mut j: JointSpec, range: [f64; 2], velocity: f64, acceleration: f64) -> JointSpec {
+    j.min = Some(range[0]);
+    j.max = Some(range[1]);
+    j.max_velocity = Some(velocity);
+    j.max_acceleration = Some(acceleration);
+    j.max_jerk = Some(500.0 * acceleration);
+    j
+}
+
+fn torque(mut j: JointSpec, max_torque: f64) -> JointSpec {
+    j.max_torque = Some(max_torque);
     j
 }
 
@@ -47,19 +80,20 @@ fn deg(x: f64) -> f64 {
 }
 
 fn lwr_rows(d1: f64) -> Vec<JointSpec> {
-    let l170 = deg(170.0);
-    let l120 = deg(120.0);
-    let v = deg(112.5);
-    let v5 = deg(180.0);
-    vec![
-        limited(row(0.0, FRAC_PI_2, d1, 0.07), -l170, l170, v),
-        limited(row(0.0, -FRAC_PI_2, 0.0, 0.07), -l120, l120, v),
-        limited(row(0.0, -FRAC_PI_2, 0.4, 0.065), -l170, l170, v),
-        limited(row(0.0, FRAC_PI_2, 0.0, 0.065), -l120, l120, v),
-        limited(row(0.0, FRAC_PI_2, 0.39, 0.06), -l170, l170, v5),
-        limited(row(0.0, -FRAC_PI_2, 0.0, 0.06), -l120, l120, v),
-        limited(row(0.0, 0.0, 0.078, 0.045), -l170, l170, v),
-    ]
+    let l170 = [-deg(170.0), deg(170.0)];
+    let l120 = [-deg(120.0), deg(120.0)];
+    let rows = [
+        (row(0.0, FRAC_PI_2, d1, 0.07), l170, 110.0, 10.0, 176.0),
+        (row(0.0, -FRAC_PI_2, 0.0, 0.07), l120, 110.0, 10.0, 176.0),
+        (row(0.0, -FRAC_PI_2, 0.4, 0.065), l170, 128.0, 10.0, 100.0),
+        (row(0.0, FRAC_PI_2, 0.0, 0.065), l120, 128.0, 10.0, 100.0),
+        (row(0.0, FRAC_PI_2, 0.39, 0.06), l170, 204.0, 15.0, 100.0),
+        (row(0.0, -FRAC_PI_2, 0.0, 0.06), l120, 184.0, 15.0, 38.0),
+        (row(0.0, 0.0, 0.078, 0.045), l170, 184.0, 15.0, 38.0),
+    ];
+    rows.into_iter()
+        .map(|(j, range, v, acc, tau)| torque(limited(j, range, deg(v), acc), tau))
+        .collect()
 }
 
 fn spec(name: &str, convention: Convention, joints: Vec<JointSpec>) -> RobotSpec {
@@ -71,6 +105,90 @@ fn spec(name: &str, convention: Convention, joints: Vec<JointSpec>) -> RobotSpec
         tool: None,
         branches: Vec::new(),
     }
+}
+
+fn panda() -> RobotSpec {
+    let l = 2.8973;
+    let rows = [
+        (row(0.0, 0.0, 0.333, 0.075), [-l, l], 2.175, 15.0, 87.0),
+        (row(0.0, -FRAC_PI_2, 0.0, 0.075), [-1.7628, 1.7628], 2.175, 7.5, 87.0),
+        (row(0.0, FRAC_PI_2, 0.316, 0.065), [-l, l], 2.175, 10.0, 87.0),
+        (row(0.0825, FRAC_PI_2, 0.0, 0.065), [-3.0718, -0.0698], 2.175, 12.5, 87.0),
+        (row(-0.0825, -FRAC_PI_2, 0.384, 0.06), [-l, l], 2.61, 15.0, 12.0),
+        (row(0.0, FRAC_PI_2, 0.0, 0.06), [-0.0175, 3.7525], 2.61, 20.0, 12.0),
+        (row(0.088, FRAC_PI_2, 0.107, 0.05), [-l, l], 2.61, 20.0, 12.0),
+    ];
+    let joints = rows
+        .into_iter()
+        .map(|(j, range, v, acc, tau)| torque(limited(j, range, v, acc), tau))
+        .collect();
+    spec("panda", Convention::Modified, joints)
+}
+
+fn ur5() -> RobotSpec {
+    let l = [-2.0 * PI, 2.0 * PI];
+    let rows = [
+        (row(0.0, FRAC_PI_2, 0.089159, 0.06), 15.0, 150.0),
+        (row(-0.425, 0.0, 0.0, 0.055), 15.0, 150.0),
+        (row(-0.39225, 0.0, 0.0, 0.05), 15.0, 150.0),
+        (row(0.0, FRAC_PI_2, 0.10915, 0.045), 25.0, 28.0),
+        (row(0.0, -FRAC_PI_2, 0.09465, 0.045), 25.0, 28.0),
+        (row(0.0, 0.0, 0.0823, 0.04), 25.0, 28.0),
+    ];
+    let joints = rows
+        .into_iter()
+        .map(|(j, acc, tau)| torque(limited(j, l, PI, acc), tau))
+        .collect();
+    spec("ur5", Convention::Standard, joints)
+}
+
+fn planar3() -> RobotSpec {
+    let l = [-deg(170.0), deg(170.0)];
+    let rows = [(0.4, 0.04, 50.0), (0.3, 0.035, 30.0), (0.2, 0.03, 15.0)];
+    let joints = rows
+        .into_iter()
+        .map(|(a, r, tau)| torque(limited(row(a, 0.0, 0.0, r), l, 2.0, 10.0), tau))
+        .collect();
+    spec("planar3", Convention::Standard, joints)
+}
+
+fn dual_arm() -> RobotSpec {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let column = limited(row(0.0, 0.0, 0.9, 0.14), [-deg(170.0), deg(170.0)], deg(90.0), 5.0);
+    let mut torso = spec("dual-arm", Convention::Standard, vec![torque(column, 300.0)]);
+    torso.branches = vec![
+        BranchSpec {
+            name: Some("left".to_owned()),
+            parent: 1,
+            mount: [-h, 0.0, 0.0, h], // z of the arm base along +y
+            joints: lwr_rows(0.25),
+            tool: None,
+        },
+        BranchSpec {
+            name: Some("right".to_owned()),
+            parent: 1,
+            mount: [h, 0.0, 0.0, h], // along −y
+            joints: lwr_rows(0.25),
+            tool: None,
+        },
+    ];
+    torso
+}
+
+fn stanford() -> RobotSpec {
+    let full = [-deg(170.0), deg(170.0)];
+    let mut slide = limited(row(0.0, 0.0, 0.0, 0.05), [0.3, 1.2], 0.5, 2.0);
+    slide.kind = JointType::Prismatic;
+    slide.max_jerk = Some(1000.0);
+    let joints = vec![
+        torque(limited(row(0.0, -FRAC_PI_2, 0.412, 0.09), full, 1.5, 8.0), 200.0),
+        torque(limited(row(0.0, FRAC_PI_2, 0.154, 0.08), [-deg(100.0), deg(100.0)], 1.5, 8.0), 200.0),
+        torque(slide, 400.0),
+        torque(limited(row(0.0, -FRAC_PI_2, 0.0, 0.045), full, 3.0, 15.0), 20.0),
+        torque(limited(row(0.0, FRAC_PI_2, 0.0, 0.045), [-deg(100.0), deg(100.0)], 3.0, 15.0), 20.0),
+        torque(limited(row(0.0, 0.0, 0.263, 0.035), full, 3.0, 15.0), 20.0),
+    ];
+    spec("stanford", Convention::Standard, joints)
 }
 
 /// The robot spec of a preset.
@@ -88,79 +206,12 @@ fn spec(name: &str, convention: Convention, joints: Vec<JointSpec>) -> RobotSpec
 /// ```
 pub fn preset(name: &str) -> Result<RobotSpec, FieldError> {
     Ok(match name {
-        "planar3" => spec(
-            "planar3",
-            Convention::Standard,
-            vec![
-                row(0.4, 0.0, 0.0, 0.04),
-                row(0.3, 0.0, 0.0, 0.035),
-                row(0.2, 0.0, 0.0, 0.03),
-            ],
-        ),
+        "planar3" => planar3(),
         "lwr4" => spec("lwr4", Convention::Standard, lwr_rows(0.3105)),
-        "panda" => {
-            let v = 2.175;
-            let w = 2.61;
-            spec(
-                "panda",
-                Convention::Modified,
-                vec![
-                    limited(row(0.0, 0.0, 0.333, 0.075), -2.8973, 2.8973, v),
-                    limited(row(0.0, -FRAC_PI_2, 0.0, 0.075), -1.7628, 1.7628, v),
-                    limited(row(0.0, FRAC_PI_2, 0.316, 0.065), -2.8973, 2.8973, v),
-                    limited(row(0.0825, FRAC_PI_2, 0.0, 0.065), -3.0718, -0.0698, v),
-                    limited(row(-0.0825, -FRAC_PI_2, 0.384, 0.06), -2.8973, 2.8973, w),
-                    limited(row(0.0, FRAC_PI_2, 0.0, 0.06), -0.0175, 3.7525, w),
-                    limited(row(0.088, FRAC_PI_2, 0.107, 0.05), -2.8973, 2.8973, w),
-                ],
-            )
-        }
-        "ur5" => {
-            let l = 2.0 * PI;
-            let v = PI;
-            spec(
-                "ur5",
-                Convention::Standard,
-                vec![
-                    limited(row(0.0, FRAC_PI_2, 0.089159, 0.06), -l, l, v),
-                    limited(row(-0.425, 0.0, 0.0, 0.055), -l, l, v),
-                    limited(row(-0.39225, 0.0, 0.0, 0.05), -l, l, v),
-                    limited(row(0.0, FRAC_PI_2, 0.10915, 0.045), -l, l, v),
-                    limited(row(0.0, -FRAC_PI_2, 0.09465, 0.045), -l, l, v),
-                    limited(row(0.0, 0.0, 0.0823, 0.04), -l, l, v),
-                ],
-            )
-        }
-        "dual-arm" => {
-            let h = std::f64::consts::FRAC_1_SQRT_2;
-            let mut torso = spec(
-                "dual-arm",
-                Convention::Standard,
-                vec![limited(
-                    row(0.0, 0.0, 0.9, 0.14),
-                    -deg(170.0),
-                    deg(170.0),
-                    deg(90.0),
-                )],
-            );
-            torso.branches = vec![
-                BranchSpec {
-                    name: Some("left".to_owned()),
-                    parent: 1,
-                    mount: [-h, 0.0, 0.0, h], // z of the arm base along +y
-                    joints: lwr_rows(0.25),
-                    tool: None,
-                },
-                BranchSpec {
-                    name: Some("right".to_owned()),
-                    parent: 1,
-                    mount: [h, 0.0, 0.0, h], // along −y
-                    joints: lwr_rows(0.25),
-                    tool: None,
-                },
-            ];
-            torso
-        }
+        "panda" => panda(),
+        "ur5" => ur5(),
+        "dual-arm" => dual_arm(),
+        "stanford" => stanford(),
         other => {
             return Err(FieldError::new(
                 "preset",

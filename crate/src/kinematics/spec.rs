@@ -65,7 +65,7 @@ pub enum RadiusSpec {
 }
 
 /// One DH row.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "camelCase", deny_unknown_fields)]
 pub struct JointSpec {
     /// Link length `a` (m); `a_{i-1}` in the modified convention.
@@ -85,9 +85,21 @@ pub struct JointSpec {
     /// Upper joint limit (rad or m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max: Option<f64>,
-    /// Joint speed limit (rad/s or m/s), > 0.
+    /// Joint speed limit (rad/s or m/s), > 0; default
+    /// [`DEFAULT_LIMITS`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_velocity: Option<f64>,
+    /// Joint acceleration limit (rad/s² or m/s²), > 0; default
+    /// [`DEFAULT_LIMITS`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_acceleration: Option<f64>,
+    /// Joint jerk limit (rad/s³ or m/s³), > 0; default [`DEFAULT_LIMITS`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_jerk: Option<f64>,
+    /// Joint torque (N·m) or force (N) limit, > 0; default
+    /// [`DEFAULT_LIMITS`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_torque: Option<f64>,
     /// Radius of the volume around the link's segments (m); default 0.05.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<RadiusSpec>,
@@ -145,6 +157,50 @@ pub struct RobotSpec {
     pub branches: Vec<BranchSpec>,
 }
 
+/// The motion limits of one joint (SI: rad or m, per s, s², s³; N·m or N).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Speed limit.
+    pub velocity: f64,
+    /// Acceleration limit.
+    pub acceleration: f64,
+    /// Jerk limit.
+    pub jerk: f64,
+    /// Torque (revolute) or force (prismatic) limit.
+    pub torque: f64,
+}
+
+/// Limits of a joint whose spec names none, per kind of joint. Finite on
+/// purpose: a spec without limits must still give motion a real arm could
+/// follow. Revolute: 2 rad/s, 10 rad/s², 5000 rad/s³, 100 N·m (between a
+/// Franka Panda's wrist and shoulder joints); prismatic: 0.5 m/s, 2 m/s²,
+/// 1000 m/s³, 500 N (a mid-size linear axis).
+pub const DEFAULT_LIMITS: [Limits; 2] = [
+    Limits {
+        velocity: 2.0,
+        acceleration: 10.0,
+        jerk: 5000.0,
+        torque: 100.0,
+    },
+    Limits {
+        velocity: 0.5,
+        acceleration: 2.0,
+        jerk: 1000.0,
+        torque: 500.0,
+    },
+];
+
+impl JointType {
+    /// The limits used for the fields a spec leaves out.
+    #[must_use]
+    pub fn default_limits(self) -> Limits {
+        match self {
+            Self::Revolute => DEFAULT_LIMITS[0],
+            Self::Prismatic => DEFAULT_LIMITS[1],
+        }
+    }
+}
+
 /// Default radius of a link's volume when the spec names none (m).
 pub const DEFAULT_RADIUS: f64 = 0.05;
 
@@ -195,8 +251,14 @@ pub struct Joint {
     pub min: f64,
     /// Upper limit (+∞ when none).
     pub max: f64,
-    /// Speed limit (+∞ when none).
+    /// Speed limit (the kind's default when the spec names none).
     pub max_velocity: f64,
+    /// Acceleration limit.
+    pub max_acceleration: f64,
+    /// Jerk limit.
+    pub max_jerk: f64,
+    /// Torque (N·m) or force (N) limit.
+    pub max_torque: f64,
     /// Radius at the start and end of each of the link's segments (m).
     pub radius: [f64; 2],
     /// Extension of the `a` spine behind its start (m, ≥ 0).
@@ -227,10 +289,15 @@ pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, 
             format!("{min} is above max {max}"),
         ));
     }
-    let max_velocity = match j.max_velocity {
-        Some(v) => positive(&format!("{field}.maxVelocity"), v)?,
-        None => f64::INFINITY,
+    let defaults = j.kind.default_limits();
+    let limit = |name: &str, v: Option<f64>, default: f64| match v {
+        Some(v) => positive(&format!("{field}.{name}"), v),
+        None => Ok(default),
     };
+    let max_velocity = limit("maxVelocity", j.max_velocity, defaults.velocity)?;
+    let max_acceleration = limit("maxAcceleration", j.max_acceleration, defaults.acceleration)?;
+    let max_jerk = limit("maxJerk", j.max_jerk, defaults.jerk)?;
+    let max_torque = limit("maxTorque", j.max_torque, defaults.torque)?;
     let radius = match j.radius {
         None => [DEFAULT_RADIUS; 2],
         Some(RadiusSpec::Uniform(r)) => [non_negative(&format!("{field}.radius"), r)?; 2],
@@ -252,6 +319,9 @@ pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, 
         min,
         max,
         max_velocity,
+        max_acceleration,
+        max_jerk,
+        max_torque,
         radius,
         extension,
         parent,
