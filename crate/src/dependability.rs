@@ -62,7 +62,8 @@ pub struct DependabilityConfig {
     /// How long a `lock` holds (s, > 0; default 1).
     pub lock_time: f64,
     /// Largest joint deceleration of a `stop` (rad/s² or m/s², > 0;
-    /// default 10).
+    /// default 10); a stop never exceeds the joints' own acceleration and
+    /// jerk limits either (category 2: controlled, then held).
     pub max_deceleration: f64,
 }
 
@@ -225,19 +226,6 @@ pub fn time_to_collision(distance: f64, closing_speed: f64) -> f64 {
     }
 }
 
-/// Bounded deceleration of joint velocities towards rest: each component
-/// moves towards zero by at most `max_deceleration · dt`.
-pub fn decelerate(qdot: &mut [f64], max_deceleration: f64, dt: f64) {
-    let step = max_deceleration * dt;
-    for v in qdot {
-        *v = if v.abs() <= step {
-            0.0
-        } else {
-            *v - step * v.signum()
-        };
-    }
-}
-
 /// One entry of the trace's event log.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Event {
@@ -324,6 +312,19 @@ pub enum EventKind {
         /// Until when (s).
         until: f64,
     },
+    /// The protective layer cannot keep a pair's approach within what the
+    /// arm can stop from (the obstacle closes in faster than the arm can
+    /// retreat, or the arm is squeezed): the arm is stopped before contact.
+    Unavoidable {
+        /// Obstacle concerned (`self:<link>` for a self-collision pair).
+        obstacle: String,
+        /// Skeleton segment of the pair.
+        segment: usize,
+        /// Clearance of the pair (m).
+        distance: f64,
+        /// How much faster than allowed the pair closes in (m/s).
+        excess: f64,
+    },
     /// A lock ended.
     Unlock {
         /// Obstacle concerned.
@@ -361,12 +362,5 @@ mod tests {
             assert!(m.sample().length() <= 0.01);
         }
         assert!((m.margin() - 0.01).abs() < 1e-15);
-    }
-
-    #[test]
-    fn deceleration_is_bounded() {
-        let mut v = [1.0, -0.005, 0.0];
-        decelerate(&mut v, 10.0, 0.001);
-        assert_eq!(v, [0.99, 0.0, 0.0]);
     }
 }

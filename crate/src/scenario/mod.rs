@@ -26,6 +26,9 @@ use crate::distance::{Primitive, PrimitiveSpec};
 use crate::error::{FieldError, finite, finite3, positive};
 use crate::kinematics::{Robot, RobotSpec, presets};
 
+mod task;
+pub use task::{DhValues, TaskSpec, Tasks};
+
 /// Why a scenario (or an edit of a live world) was refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -215,7 +218,7 @@ impl Serialize for ShapeSpec {
 
 /// How the times of a list of timed points must grow.
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum TimeOrder {
+pub(crate) enum TimeOrder {
     /// Equal consecutive times allowed (a jump between waypoints).
     NonDecreasing,
     /// Strictly increasing (a trajectory to interpolate).
@@ -224,7 +227,7 @@ enum TimeOrder {
 
 /// Checks timed points: at least one, one time per point, finite values,
 /// times ordered as `order` says.
-fn check_timed_points(
+pub(crate) fn check_timed_points(
     points: &[[f64; 3]],
     times: &[f64],
     order: TimeOrder,
@@ -516,75 +519,6 @@ impl ObstacleSpec {
     }
 }
 
-/// The end-effector task.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "camelCase", deny_unknown_fields)]
-pub enum TaskSpec {
-    /// Keep the main chain's end effector where it starts (position;
-    /// default).
-    #[default]
-    Hold,
-    /// Reach `position` (m), and `orientation` (`[x, y, z, w]`) if given.
-    Goal {
-        /// Position (m, world frame).
-        position: [f64; 3],
-        /// Orientation as a unit quaternion `[x, y, z, w]`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        orientation: Option<[f64; 4]>,
-        /// Chain whose end effector has the goal (0 = main chain; default 0).
-        #[serde(default)]
-        chain: usize,
-    },
-    /// Follow the piecewise-linear path through `points` at `times` (s);
-    /// the first point before, the last point after.
-    Trajectory {
-        /// Positions (m).
-        points: Vec<[f64; 3]>,
-        /// Times (s, increasing).
-        times: Vec<f64>,
-        /// Chain whose end effector follows (default 0).
-        #[serde(default)]
-        chain: usize,
-    },
-}
-
-impl TaskSpec {
-    /// Checks every value.
-    ///
-    /// # Errors
-    /// `position[1]: not a finite number`, `orientation: …`, `times: …`.
-    pub fn validate(&self, robot: &Robot) -> Result<(), FieldError> {
-        let chain = match self {
-            Self::Hold => 0,
-            Self::Goal { chain, .. } | Self::Trajectory { chain, .. } => *chain,
-        };
-        if chain >= robot.chains.len() {
-            return Err(FieldError::new(
-                "chain",
-                format!("{chain} is out of range 0..{}", robot.chains.len()),
-            ));
-        }
-        match self {
-            Self::Hold => Ok(()),
-            Self::Goal {
-                position,
-                orientation,
-                ..
-            } => {
-                finite3("position", DVec3::from_array(*position))?;
-                if let Some(o) = orientation {
-                    unit_quat("orientation", *o)?;
-                }
-                Ok(())
-            }
-            Self::Trajectory { points, times, .. } => {
-                check_timed_points(points, times, TimeOrder::Increasing)?;
-                Ok(())
-            }
-        }
-    }
-}
-
 /// A unit quaternion from `[x, y, z, w]`.
 ///
 /// # Errors
@@ -639,9 +573,9 @@ pub struct Scenario {
     pub q0: Option<Vec<f64>>,
     /// Obstacles (ids unique).
     pub obstacles: Vec<ObstacleSpec>,
-    /// End-effector task (default `hold`).
+    /// Task: one, or a list with at most one per chain (default `hold`).
     #[serde(default)]
-    pub task: TaskSpec,
+    pub task: Tasks,
     /// Controller (every field defaulted).
     #[serde(default)]
     pub controller: ControllerConfig,
@@ -755,6 +689,14 @@ impl Scenario {
 /// `influenceDistance: must be > 0`, `pinned[0].link: 9 is out of range 1..=7`, …
 pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), FieldError> {
     c.validate()?;
+    if let Some(w) = &c.joint_weights {
+        if w.len() != robot.dof() {
+            return Err(FieldError::new(
+                "jointWeights",
+                format!("expected {} values (one per joint), got {}", robot.dof(), w.len()),
+            ));
+        }
+    }
     if c.selection == Selection::Pinned || !c.pinned.is_empty() {
         let q = vec![0.0; robot.dof()];
         let mut q = q;
@@ -825,11 +767,11 @@ pub const EXAMPLE_NAMES: [&str; 5] = [
 /// `name: unknown example "x" (known: …)`.
 pub fn example_json(name: &str) -> Result<&'static str, FieldError> {
     Ok(match name {
-        "planar-transition" => include_str!("../../scenarios/planar-transition.json"),
-        "lwr4-elbow" => include_str!("../../scenarios/lwr4-elbow.json"),
-        "human-panda" => include_str!("../../scenarios/human-panda.json"),
-        "dual-arm-self" => include_str!("../../scenarios/dual-arm-self.json"),
-        "chattering" => include_str!("../../scenarios/chattering.json"),
+        "planar-transition" => include_str!("../../../scenarios/planar-transition.json"),
+        "lwr4-elbow" => include_str!("../../../scenarios/lwr4-elbow.json"),
+        "human-panda" => include_str!("../../../scenarios/human-panda.json"),
+        "dual-arm-self" => include_str!("../../../scenarios/dual-arm-self.json"),
+        "chattering" => include_str!("../../../scenarios/chattering.json"),
         _ => {
             return Err(FieldError::new(
                 "name",

@@ -1,0 +1,365 @@
+//! The *control* stage: repulsion and tasks turned into a joint command
+//! (velocity, torque or second-order CLIK), before the protective layer and
+//! the joint limits.
+//!
+//! * **Repulsion prescribes material motion.** An avoidance row asks the
+//!   arm's own velocity at the control point, `−nᵀ J_θ q̇`, to be the
+//!   repulsion speed. A control point travelling along the skeleton changes
+//!   *where* the row acts; its own sliding (`J_a ȧ + J_d ḋ`) is not motion of
+//!   the arm and does not enter the row — otherwise the arm would chase the
+//!   virtual motion of the point (several m/s at 0.1 s per DH value).
+//! * **Eq. 4 where it belongs.** The moving-point terms enter where a task
+//!   prescribes the trajectory of a moving point: the `point` task
+//!   ([`TaskReference::point`]) holds or follows a Cartesian reference with a
+//!   control point whose DH values change in time,
+//!   `θ̇ = J_θ,W^† (ṗ_d + K (p_d − p) − J_a ȧ − J_d ḋ)`.
+//! * **Task priority** with the weighted damped pseudoinverse (eq. 4's `W`,
+//!   `controller.jointWeights`): avoidance rows first, then every task (one
+//!   per chain, stacked).
+//! * **Activation that fades over the whole band.** Scaling a row by its
+//!   activation `h` does not fade it: the pseudoinverse restores its full
+//!   effect as soon as `h |nᵀJ|` exceeds the damping threshold. Instead each
+//!   row asks for `h v_rep + (1 − h) (row · q̇₀)`, where `q̇₀` is what the
+//!   tasks alone would command: at `h = 0` the row asks for exactly what the
+//!   arm does anyway, at `h = 1` for the repulsion, continuously in between
+//!   (the intermediate desired value of Mansard, Khatib & Kheddar, 2009).
+
+use glam::{DQuat, DVec3};
+
+use super::{ActivePoint, ControllerConfig, TaskReference, activation, repulsion_speed};
+use crate::error::FieldError;
+use crate::kinematics::ik::{Mat, dls_inverse, end_effector_jacobian, orientation_error};
+use crate::kinematics::{Frames, Robot};
+
+/// Task-priority resolution: each level `(J, r)` is satisfied in the null
+/// space of the ones before (weighted damped least squares); `rest` (if any)
+/// is projected in the null space of all of them.
+fn prioritized(
+    levels: &[(&Mat, &[f64])],
+    n: usize,
+    config: &ControllerConfig,
+    rest: Option<&[f64]>,
+) -> Vec<f64> {
+    let weights = config.joint_weights.as_deref().unwrap_or(&[]);
+    let mut x = vec![0.0; n];
+    let mut p = Mat::identity(n);
+    for (jac, r) in levels {
+        if jac.rows == 0 {
+            continue;
+        }
+        let jp = jac.mul(&p);
+        let inv = dls_inverse(&jp, weights, config.dls()).inverse;
+        let jx = jac.mul_vec(&x);
+        let e: Vec<f64> = r.iter().zip(&jx).map(|(a, b)| a - b).collect();
+        let dx = inv.mul_vec(&e);
+        for (xi, d) in x.iter_mut().zip(&dx) {
+            *xi += d;
+        }
+        let ij = inv.mul(&jp);
+        for k in 0..p.data.len() {
+            p.data[k] -= ij.data[k];
+        }
+    }
+    if let Some(z) = rest {
+        let pz = p.mul_vec(z);
+        for (xi, d) in x.iter_mut().zip(&pz) {
+            *xi += d;
+        }
+    }
+    x
+}
+
+/// The avoidance rows `−nᵢᵀ J_θ,i` of the `n − 1` closest active points,
+/// with their activations.
+fn avoidance_rows(
+    robot: &Robot,
+    frames: &Frames,
+    points: &[ActivePoint],
+    config: &ControllerConfig,
+) -> (Mat, Vec<(usize, f64)>) {
+    let n = robot.dof();
+    let mut order: Vec<usize> = (0..points.len())
+        .filter(|&k| activation(points[k].distance, config) > 0.0)
+        .collect();
+    order.sort_by(|&a, &b| {
+        points[a]
+            .distance
+            .total_cmp(&points[b].distance)
+            .then(a.cmp(&b))
+    });
+    order.truncate(n.saturating_sub(1).max(1));
+    let mut jac = Mat::zeros(order.len(), n);
+    let mut which = Vec::with_capacity(order.len());
+    for (row, &k) in order.iter().enumerate() {
+        let p = &points[k];
+        let pj = p.dh.jacobians(robot, frames);
+        let dir = -p.normal;
+        for (c, col) in pj.j_theta.iter().enumerate() {
+            jac.set(row, c, dir.dot(*col));
+        }
+        which.push((k, activation(p.distance, config)));
+    }
+    (jac, which)
+}
+
+/// Rows of every task, stacked, with their velocity-level right-hand side
+/// (`ṗ_d + K (p_d − p)`, minus the moving-point terms of a point task) and
+/// their current positions.
+struct TaskLevel {
+    jac: Mat,
+    rhs: Vec<f64>,
+}
+
+fn task_level(
+    robot: &Robot,
+    frames: &Frames,
+    tasks: &[TaskReference],
+    config: &ControllerConfig,
+    gain: f64,
+) -> Result<TaskLevel, FieldError> {
+    let n = robot.dof();
+    let rows: usize = tasks.iter().map(TaskReference::rows).sum();
+    let mut jac = Mat::zeros(rows, n);
+    let mut rhs = Vec::with_capacity(rows);
+    let mut r0 = 0;
+    for task in tasks {
+        if let Some((dh, motion)) = task.point {
+            let pj = dh.jacobians(robot, frames);
+            for (c, col) in pj.j_theta.iter().enumerate() {
+                for (k, v) in col.to_array().iter().enumerate() {
+                    jac.set(r0 + k, c, *v);
+                }
+            }
+            let i = dh.link - 1;
+            let sliding = if config.moving_point_terms {
+                pj.j_a[i] * motion.a_rate + pj.j_d[i] * motion.d_rate
+            } else {
+                DVec3::ZERO
+            };
+            let v = task.velocity + gain * (task.position - pj.position) - sliding;
+            rhs.extend(v.to_array());
+            r0 += 3;
+            continue;
+        }
+        let (full, x, rot) = end_effector(robot, frames, task.chain)?;
+        let m = task.rows();
+        for r in 0..m {
+            for c in 0..n {
+                jac.set(r0 + r, c, full.get(r, c));
+            }
+        }
+        rhs.extend((task.velocity + gain * (task.position - x)).to_array());
+        if let Some(o) = task.orientation {
+            rhs.extend((gain * orientation_error(o, rot)).to_array());
+        }
+        r0 += m;
+    }
+    Ok(TaskLevel { jac, rhs })
+}
+
+fn end_effector(
+    robot: &Robot,
+    frames: &Frames,
+    chain: usize,
+) -> Result<(Mat, DVec3, DQuat), FieldError> {
+    let full = end_effector_jacobian(robot, frames, chain)?;
+    let ee = frames
+        .end_effectors
+        .get(chain)
+        .copied()
+        .unwrap_or(glam::DAffine3::IDENTITY);
+    Ok((full, ee.translation, DQuat::from_mat3(&ee.matrix3)))
+}
+
+/// Velocity mode: avoidance rows first (fading, see the module docs), the
+/// tasks in their null space. Returns the requested joint velocities, before
+/// the protective layer and the joint limits.
+///
+/// # Errors
+/// Only on inconsistent inputs (a chain that does not exist).
+pub fn velocity_control(
+    robot: &Robot,
+    frames: &Frames,
+    points: &[ActivePoint],
+    tasks: &[TaskReference],
+    config: &ControllerConfig,
+) -> Result<Vec<f64>, FieldError> {
+    let n = robot.dof();
+    let level = task_level(robot, frames, tasks, config, config.task_gain)?;
+    let alone = prioritized(&[(&level.jac, &level.rhs)], n, config, None);
+    let (avoid, which) = avoidance_rows(robot, frames, points, config);
+    if which.is_empty() {
+        return Ok(alone);
+    }
+    let now = avoid.mul_vec(&alone);
+    let r_avoid: Vec<f64> = which
+        .iter()
+        .zip(&now)
+        .map(|(&(k, h), v0)| h * repulsion_speed(points[k].distance, config) + (1.0 - h) * v0)
+        .collect();
+    Ok(prioritized(
+        &[(&avoid, &r_avoid), (&level.jac, &level.rhs)],
+        n,
+        config,
+        None,
+    ))
+}
+
+/// Torque mode: `τ = Σ J_taskᵀ f_task + Σ hᵢ J_θ,iᵀ fᵢ − D q̇`, each joint's
+/// torque within its `max_torque`, integrated over `dt` on `M q̈ = τ` with
+/// `M = diag(inertia)` (gravity assumed compensated). Returns the requested
+/// joint velocities and the torques.
+///
+/// # Errors
+/// Only on inconsistent inputs.
+pub fn torque_control(
+    robot: &Robot,
+    frames: &Frames,
+    qdot: &[f64],
+    points: &[ActivePoint],
+    tasks: &[TaskReference],
+    config: &ControllerConfig,
+    dt: f64,
+) -> Result<(Vec<f64>, Vec<f64>), FieldError> {
+    let n = robot.dof();
+    let g = &config.torque;
+    let mut tau: Vec<f64> = qdot.iter().map(|v| -g.joint_damping * v).collect();
+    let mut add = |cols: &[DVec3], force: DVec3| {
+        for (t, col) in tau.iter_mut().zip(cols) {
+            *t += col.dot(force);
+        }
+    };
+    for task in tasks {
+        let (cols, x) = if let Some((dh, _)) = task.point {
+            let pj = dh.jacobians(robot, frames);
+            (pj.j_theta, pj.position)
+        } else {
+            let (full, x, _) = end_effector(robot, frames, task.chain)?;
+            let cols = (0..n)
+                .map(|c| DVec3::new(full.get(0, c), full.get(1, c), full.get(2, c)))
+                .collect();
+            (cols, x)
+        };
+        let xdot = cols
+            .iter()
+            .zip(qdot)
+            .fold(DVec3::ZERO, |s, (c, v)| s + *c * *v);
+        let f = g.stiffness * (task.position - x) + g.damping * (task.velocity - xdot);
+        add(&cols, f);
+    }
+    for p in points {
+        let h = activation(p.distance, config);
+        let force = g.force_gain * h * p.repulsion(config);
+        add(&p.dh.jacobians(robot, frames).j_theta, force);
+    }
+    for (t, j) in tau.iter_mut().zip(&robot.joints) {
+        *t = if t.is_finite() {
+            t.clamp(-j.max_torque, j.max_torque)
+        } else {
+            0.0
+        };
+    }
+    let out = qdot
+        .iter()
+        .zip(&tau)
+        .map(|(v, t)| v + t / g.inertia * dt)
+        .collect();
+    Ok((out, tau))
+}
+
+/// `J̇ q̇` of the stacked task rows, by a forward difference of the
+/// Jacobians along `q̇` (step 1e-6 s).
+fn task_bias(
+    robot: &Robot,
+    q: &[f64],
+    qdot: &[f64],
+    tasks: &[TaskReference],
+    config: &ControllerConfig,
+    level: &TaskLevel,
+) -> Result<Vec<f64>, FieldError> {
+    const H: f64 = 1e-6;
+    let q2: Vec<f64> = q.iter().zip(qdot).map(|(a, b)| a + H * b).collect();
+    let f2 = robot.forward(&q2)?;
+    let later = task_level(robot, &f2, tasks, config, 0.0)?;
+    let mut out = vec![0.0; level.jac.rows];
+    for (r, o) in out.iter_mut().enumerate() {
+        for (c, qd) in qdot.iter().enumerate() {
+            *o += (later.jac.get(r, c) - level.jac.get(r, c)) / H * qd;
+        }
+    }
+    Ok(out)
+}
+
+/// Second-order CLIK: joint accelerations with avoidance first (each row
+/// drives the material approach speed at its point towards the repulsion
+/// speed, fading as in velocity mode), the tasks in their null space and
+/// joint damping in the remaining null space; integrated over `dt`,
+/// returns the requested joint velocities.
+///
+/// `frames` must carry the velocities for `qdot`
+/// ([`Robot::forward_with_velocity`]).
+///
+/// # Errors
+/// Frames without velocities.
+#[allow(clippy::too_many_arguments)]
+pub fn clik2_control(
+    robot: &Robot,
+    frames: &Frames,
+    q: &[f64],
+    qdot: &[f64],
+    points: &[ActivePoint],
+    tasks: &[TaskReference],
+    config: &ControllerConfig,
+    dt: f64,
+) -> Result<Vec<f64>, FieldError> {
+    let n = robot.dof();
+    let g = config.clik2;
+    let level = task_level(robot, frames, tasks, config, 0.0)?;
+    let v = level.jac.mul_vec(qdot);
+    let bias = task_bias(robot, q, qdot, tasks, config, &level)?;
+    let mut r_task = Vec::with_capacity(level.rhs.len());
+    let mut r0 = 0;
+    for task in tasks {
+        let x = if let Some((dh, _)) = task.point {
+            dh.position(robot, frames)
+        } else {
+            end_effector(robot, frames, task.chain)?.1
+        };
+        let xdot = DVec3::new(v[r0], v[r0 + 1], v[r0 + 2]);
+        let a = task.acceleration + g.kd * (task.velocity - xdot) + g.kp * (task.position - x);
+        r_task.extend(a.to_array());
+        if let (Some(o), None) = (task.orientation, task.point) {
+            let rot = end_effector(robot, frames, task.chain)?.2;
+            let w = DVec3::new(v[r0 + 3], v[r0 + 4], v[r0 + 5]);
+            r_task.extend((g.kp * orientation_error(o, rot) - g.kd * w).to_array());
+        }
+        r0 += task.rows();
+    }
+    for (r, b) in r_task.iter_mut().zip(&bias) {
+        *r -= b;
+    }
+    let damp: Vec<f64> = qdot.iter().map(|v| -g.kd * v).collect();
+    let alone = prioritized(&[(&level.jac, &r_task)], n, config, Some(&damp));
+    let (avoid, which) = avoidance_rows(robot, frames, points, config);
+    let qdd = if which.is_empty() {
+        alone
+    } else {
+        let now = avoid.mul_vec(&alone);
+        let speed = avoid.mul_vec(qdot);
+        let r_avoid: Vec<f64> = which
+            .iter()
+            .zip(now.iter().zip(&speed))
+            .map(|(&(k, h), (a0, s))| {
+                let v_rep = repulsion_speed(points[k].distance, config);
+                h * g.kd * (v_rep - s) + (1.0 - h) * a0
+            })
+            .collect();
+        prioritized(
+            &[(&avoid, &r_avoid), (&level.jac, &r_task)],
+            n,
+            config,
+            Some(&damp),
+        )
+    };
+    Ok(qdot.iter().zip(&qdd).map(|(v, a)| v + a * dt).collect())
+}

@@ -1,0 +1,320 @@
+//! The *limit* stage: every joint command a real arm could execute.
+//!
+//! Whatever the controller and the protective layer ask for, the joints
+//! move within their speed, acceleration and jerk limits
+//! ([`crate::kinematics::Joint`]: `max_velocity`, `max_acceleration`,
+//! `max_jerk`) and stop before their position limits.
+//!
+//! [`JointLimiter::step`] is an online, jerk-limited velocity tracker, the
+//! role Ruckig's velocity interface plays on real controllers, computed in
+//! closed form per joint so that it costs a few hundred nanoseconds:
+//!
+//! 1. **Position limits with braking distance**: the commanded speed towards
+//!    a limit is capped at `√(A (q_max − q))` (braking at half the
+//!    acceleration limit, the other half kept for the jerk ramp), so the
+//!    joint can always stop before the limit.
+//! 2. **Synchronised, direction-preserving approach**: each joint `i` needs
+//!    about `τᵢ = |eᵢ|/Aᵢ + Aᵢ/Jᵢ` to close its velocity error `eᵢ`; joint `i`
+//!    uses the fraction `τᵢ/max τ` of its acceleration limit, so all joints
+//!    arrive together and the velocity moves along the straight line from
+//!    the current command to the requested one. This is what keeps the
+//!    protective layer's linear constraints satisfied while the limiter
+//!    catches up: every velocity on that line is a convex combination of two
+//!    velocities that satisfy them.
+//! 3. **Jerk-limited acceleration**: the acceleration heads for
+//!    `sign(e) min(A', √(2 J' |e|), |e|/dt)` — the largest acceleration from
+//!    which a jerk-limited ramp down reaches the target without overshoot —
+//!    changing by at most `J dt` per step; the last term lets the velocity
+//!    settle exactly instead of dithering around the target.
+//!
+//! The new velocity is `q̇ + q̈ dt`, so the accelerations and jerks read off
+//! the sampled trajectory (`Δq̇/dt`, `Δq̈/dt`) are exactly the bounded ones.
+
+use crate::kinematics::Robot;
+
+/// Joint state the limiter carries from step to step.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JointMotion {
+    /// Joint velocities (rad/s or m/s).
+    pub qdot: Vec<f64>,
+    /// Joint accelerations (rad/s² or m/s²).
+    pub qddot: Vec<f64>,
+}
+
+impl JointMotion {
+    /// At rest, `n` joints.
+    #[must_use]
+    pub fn rest(n: usize) -> Self {
+        Self {
+            qdot: vec![0.0; n],
+            qddot: vec![0.0; n],
+        }
+    }
+
+    /// Whether every joint is still (velocity and acceleration zero).
+    #[must_use]
+    pub fn is_at_rest(&self) -> bool {
+        self.qdot.iter().chain(&self.qddot).all(|v| *v == 0.0)
+    }
+}
+
+/// The largest speed (≥ 0) at which joint `i` may move towards each of its
+/// position limits now: `(towards min, towards max)`.
+#[must_use]
+pub fn braking_caps(robot: &Robot, q: &[f64]) -> Vec<(f64, f64)> {
+    robot
+        .joints
+        .iter()
+        .zip(q)
+        .map(|(j, qi)| {
+            let cap = |room: f64| {
+                if room.is_finite() {
+                    (j.max_acceleration * (room - LIMIT_MARGIN).max(0.0)).sqrt()
+                } else {
+                    f64::INFINITY
+                }
+            };
+            (cap(qi - j.min), cap(j.max - qi))
+        })
+        .collect()
+}
+
+/// Admissible joint velocities now: the speed limits intersected with the
+/// braking caps of the position limits, as `(lo, hi)` per joint.
+#[must_use]
+pub fn velocity_box(robot: &Robot, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let caps = braking_caps(robot, q);
+    robot
+        .joints
+        .iter()
+        .zip(caps)
+        .map(|(j, (down, up))| (-j.max_velocity.min(down), j.max_velocity.min(up)))
+        .unzip()
+}
+
+/// Time the limiter needs to bring `motion` to rest (s): the slowest
+/// joint's deceleration plus its acceleration ramp, plus one step.
+#[must_use]
+pub fn braking_time(robot: &Robot, motion: &JointMotion, dt: f64) -> f64 {
+    robot
+        .joints
+        .iter()
+        .zip(&motion.qdot)
+        .zip(&motion.qddot)
+        .map(|((j, v), a)| {
+            v.abs() / j.max_acceleration
+                + (a.abs() + j.max_acceleration) / j.max_jerk
+        })
+        .fold(0.0, f64::max)
+        + dt
+}
+
+fn time_to_close(error: f64, a: f64, j: f64) -> f64 {
+    let e = error.abs();
+    if e <= 0.0 {
+        0.0
+    } else if e >= a * a / j {
+        e / a + a / j
+    } else {
+        2.0 * (e / j).sqrt()
+    }
+}
+
+/// The fraction `s` of its acceleration and jerk limits with which a joint
+/// closes velocity error `e` in exactly `tau` (the inverse of
+/// [`time_to_close`] for limits `s A`, `s J`): joints with the same ratio
+/// `A/J` then follow profiles of the same shape, scaled by their errors.
+fn share_for(e: f64, a: f64, j: f64, tau: f64) -> f64 {
+    let c = a / j;
+    let s = if tau >= 2.0 * c {
+        e.abs() / (a * (tau - c))
+    } else {
+        4.0 * e.abs() / (j * tau * tau)
+    };
+    s.clamp(1e-6, 1.0)
+}
+
+/// The velocity change of applying acceleration `a` for one step, then
+/// ramping it down by `jerk_step` per step to zero.
+fn landing(a: f64, jerk_step: f64, dt: f64) -> f64 {
+    let m = (a / jerk_step).floor();
+    dt * (a + m * a - jerk_step * m * (m + 1.0) / 2.0)
+}
+
+/// The largest acceleration in `[0, acc]` (and at most `e/dt`) from which
+/// the discrete ramp down at `jerk_step` per step changes the velocity by
+/// at most `e`: the velocity then lands on its target without overshoot.
+fn landing_acceleration(e: f64, acc: f64, jerk_step: f64, dt: f64) -> f64 {
+    let top = acc.min(e / dt);
+    if top <= 0.0 || landing(top, jerk_step, dt) <= e {
+        return top.max(0.0);
+    }
+    let (mut lo, mut hi): (f64, f64) = (0.0, top);
+    for _ in 0..30 {
+        let mid = 0.5 * (lo + hi);
+        if landing(mid, jerk_step, dt) <= e {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// Room (rad or m) kept before a position limit for the discrete lag of
+/// the braking profile.
+const LIMIT_MARGIN: f64 = 1e-4;
+
+/// Advances `motion` by one step of `dt` towards the requested velocities
+/// `target` within every joint limit (see the module docs); returns the new
+/// joint motion in place.
+pub fn step(robot: &Robot, q: &[f64], target: &[f64], motion: &mut JointMotion, dt: f64) {
+    step_capped(robot, q, target, motion, dt, f64::INFINITY);
+}
+
+/// [`step`] with every joint's acceleration further capped at
+/// `max_acceleration` (a stop's deceleration).
+pub fn step_capped(
+    robot: &Robot,
+    q: &[f64],
+    target: &[f64],
+    motion: &mut JointMotion,
+    dt: f64,
+    max_acceleration: f64,
+) {
+    let n = robot.dof();
+    if motion.qdot.len() != n || motion.qddot.len() != n {
+        *motion = JointMotion::rest(n);
+    }
+    let (lo, hi) = velocity_box(robot, q);
+    let want: Vec<f64> = (0..n)
+        .map(|i| {
+            let t = target.get(i).copied().unwrap_or(0.0);
+            if t.is_finite() { t.clamp(lo[i], hi[i]) } else { 0.0 }
+        })
+        .collect();
+    let longest = robot
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| {
+            let acc = j.max_acceleration.min(max_acceleration);
+            time_to_close(want[i] - motion.qdot[i], acc, j.max_jerk)
+        })
+        .fold(0.0, f64::max);
+    for (i, j) in robot.joints.iter().enumerate() {
+        let limit = j.max_acceleration.min(max_acceleration);
+        let (v, a) = (motion.qdot[i], motion.qddot[i]);
+        let e = want[i] - v;
+        let share = if longest > 0.0 {
+            share_for(e, limit, j.max_jerk, longest)
+        } else {
+            1.0
+        };
+        let (acc, jerk) = (limit * share, j.max_jerk * share);
+        let reach = landing_acceleration(e.abs(), acc, jerk * dt, dt);
+        // A joint builds up acceleration at its scaled jerk (the same shape
+        // as the others) and takes it back at its full jerk limit, so that
+        // a share that shrinks between steps never causes an overshoot.
+        let goal = reach.copysign(e);
+        let easing = goal.abs() < a.abs() || goal * a < 0.0;
+        let step_jerk = if easing { j.max_jerk } else { jerk } * dt;
+        let bound = limit.max(a.abs().min(j.max_acceleration));
+        let mut a_next = goal
+            .clamp(a - step_jerk, a + step_jerk)
+            .clamp(-bound, bound);
+        let mut v_next = v + a_next * dt;
+        if v_next.abs() > j.max_velocity {
+            v_next = v_next.clamp(-j.max_velocity, j.max_velocity);
+            a_next = (v_next - v) / dt;
+        }
+        motion.qdot[i] = v_next;
+        motion.qddot[i] = a_next;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::presets;
+
+    fn robot(name: &str) -> Robot {
+        let spec = presets::preset(name).unwrap_or_else(|e| unreachable!("{e}"));
+        Robot::from_spec(&spec).unwrap_or_else(|e| unreachable!("{e}"))
+    }
+
+    /// Runs the limiter towards `target` and checks every limit on the way.
+    fn run(r: &Robot, q0: &[f64], target: &[f64], steps: usize) -> (Vec<f64>, JointMotion) {
+        let dt = 0.001;
+        let mut q = q0.to_vec();
+        let mut m = JointMotion::rest(r.dof());
+        for _ in 0..steps {
+            let before = m.clone();
+            step(r, &q, target, &mut m, dt);
+            for (i, j) in r.joints.iter().enumerate() {
+                assert!(m.qdot[i].abs() <= j.max_velocity * (1.0 + 1e-12));
+                let acc = (m.qdot[i] - before.qdot[i]) / dt;
+                assert!(acc.abs() <= j.max_acceleration * (1.0 + 1e-9), "{acc}");
+                let jerk = (m.qddot[i] - before.qddot[i]) / dt;
+                assert!(jerk.abs() <= j.max_jerk * (1.0 + 1e-9), "jerk {jerk} joint {i} v {} a {} before {:?}", m.qdot[i], m.qddot[i], (before.qdot[i], before.qddot[i]));
+            }
+            for ((qi, v), j) in q.iter_mut().zip(&m.qdot).zip(&r.joints) {
+                *qi += v * dt;
+                assert!(*qi >= j.min - 1e-12 && *qi <= j.max + 1e-12, "{qi}");
+            }
+        }
+        (q, m)
+    }
+
+    #[test]
+    fn reaches_the_target_within_every_limit_and_settles_exactly() {
+        let r = robot("panda");
+        let q0 = [0.0, 0.0, 0.0, -1.5, 0.0, 1.5, 0.0];
+        let target = [1.0, -0.5, 0.3, 0.2, -2.0, 0.1, 5.0];
+        let (_, m) = run(&r, &q0, &target, 400);
+        for (i, v) in m.qdot.iter().enumerate() {
+            let want = target[i].clamp(-r.joints[i].max_velocity, r.joints[i].max_velocity);
+            assert!((v - want).abs() < 1e-9, "joint {i}: {v} vs {want}");
+        }
+        let (_, m) = run(&r, &q0, &[0.0; 7], 10);
+        assert!(m.qdot.iter().all(|v| v.abs() < 0.1));
+    }
+
+    #[test]
+    fn approach_keeps_the_direction_of_the_velocity_change() {
+        let r = robot("lwr4");
+        let target = [0.4, -0.2, 0.1, 0.3, 0.0, -0.1, 0.2];
+        let dt = 0.001;
+        let mut m = JointMotion::rest(7);
+        let q = [0.0, 0.5, 0.0, -1.0, 0.0, 0.5, 0.0];
+        for _ in 0..40 {
+            step(&r, &q, &target, &mut m, dt);
+            let s = m.qdot[0] / target[0];
+            for i in 1..7 {
+                assert!((m.qdot[i] - s * target[i]).abs() < 2e-3 * target[0].abs().max(1.0));
+            }
+        }
+    }
+
+    #[test]
+    fn stops_before_position_limits() {
+        let r = robot("planar3");
+        let (q, m) = run(&r, &[2.5, 0.0, 0.0], &[2.0, 0.0, 0.0], 3000);
+        assert!(q[0] <= r.joints[0].max + 1e-9, "{}", q[0]);
+        assert!(m.qdot[0].abs() < 1e-6);
+    }
+
+    #[test]
+    fn braking_time_covers_a_stop() {
+        let r = robot("panda");
+        let q = [0.0, 0.0, 0.0, -1.5, 0.0, 1.5, 0.0];
+        let (_, mut m) = run(&r, &q, &[1.5, -1.0, 1.0, 1.0, 2.0, -2.0, 2.0], 1000);
+        let budget = braking_time(&r, &m, 0.001);
+        let mut t = 0.0;
+        while !m.is_at_rest() {
+            step(&r, &q, &[0.0; 7], &mut m, 0.001);
+            t += 0.001;
+            assert!(t <= budget * 1.1, "still moving after {t} s (budget {budget} s)");
+        }
+    }
+}

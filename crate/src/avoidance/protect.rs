@@ -1,0 +1,327 @@
+//! The *protect* stage: a protective layer beneath the repulsion.
+//!
+//! Repulsion acts at the selected control points and only shapes the
+//! motion. Underneath it, every skeleton–obstacle pair within the influence
+//! distance — selected or not, travelling control point or not — carries a
+//! hard bound on how fast the arm may close the gap (a *guard*):
+//!
+//! `nᵀ J_θ q̇ ≤ (d − d_s − v_h (T_r + T_s)) / (T_r + T_s / 2)`
+//!
+//! where `n` is the unit direction from the arm towards the obstacle at the
+//! pair's witness, `J_θ` the position Jacobian of that (material) point,
+//! `d` the clearance (sensing margin subtracted), `d_s` the safety distance,
+//! `v_h` the obstacle's own approach speed, `T_r` the reaction time and
+//! `T_s` the time the joints need to stop from their current motion within
+//! their acceleration and jerk limits ([`super::limits::braking_time`]).
+//!
+//! This is the velocity damper of Faverjon & Tournassoud (the form QP
+//! controllers such as NEO use), with its gain chosen so that the distance
+//! the arm still covers while stopping — `v (T_r + T_s/2)` for a
+//! deceleration that is linear in time — plus what the obstacle covers
+//! meanwhile — `v_h (T_r + T_s)` — never exceeds the clearance: the
+//! protective separation distance of ISO/TS 15066 speed and separation
+//! monitoring, `S_p = v_h (T_r + T_s) + v_r T_r + B + d_s`. As `d → d_s` the
+//! allowed approach speed goes to zero, so contact can only begin with the
+//! arm at rest. A negative bound (the obstacle closes in faster than the
+//! clearance allows) asks the arm to retreat.
+//!
+//! Self-collision pairs bound the approach of two points of the arm, with
+//! the row `nᵀ (J_θ,a − J_θ,b)`.
+//!
+//! [`project`] finds the joint velocity closest (in the metric of the joint
+//! weights `W`) to the controller's command that satisfies every guard and
+//! the admissible velocity box, by Hildreth's dual coordinate ascent — a
+//! small dense QP with one dual variable per guard, no allocation beyond
+//! the caller's buffers. When the guards cannot all be met (the arm cannot
+//! retreat fast enough, or two obstacles squeeze it) the result says which
+//! guard is violated, and the world stops the arm ([`super`]'s
+//! `unavoidable` event).
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::control_point::{DhPoint, PointJacobians};
+use crate::error::{FieldError, non_negative};
+use crate::kinematics::{Frames, Robot};
+use crate::skeleton::Skeleton;
+
+/// Settings of the protective layer (scenario field
+/// `controller.protective`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields, default)]
+pub struct ProtectiveConfig {
+    /// Whether the guards are enforced (default true).
+    pub enabled: bool,
+    /// Safety distance `d_s` kept at rest (m, ≥ 0; default 0.01).
+    pub safety_distance: f64,
+    /// Reaction time `T_r` of sensing and control (s, ≥ 0; default 0.01).
+    pub reaction_time: f64,
+}
+
+impl Default for ProtectiveConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            safety_distance: 0.01,
+            reaction_time: 0.01,
+        }
+    }
+}
+
+impl ProtectiveConfig {
+    /// Checks every value.
+    ///
+    /// # Errors
+    /// `protective.safetyDistance: must be >= 0`, …
+    pub fn validate(&self) -> Result<(), FieldError> {
+        non_negative("protective.safetyDistance", self.safety_distance)?;
+        non_negative("protective.reactionTime", self.reaction_time)?;
+        Ok(())
+    }
+
+    /// The largest approach speed of the arm (m/s) at clearance `distance`
+    /// when the obstacle itself approaches at `obstacle_speed` and the
+    /// joints need `braking` seconds to stop.
+    #[must_use]
+    pub fn bound(&self, distance: f64, obstacle_speed: f64, braking: f64) -> f64 {
+        let reach = self.reaction_time + braking;
+        let room = distance - self.safety_distance - obstacle_speed.max(0.0) * reach;
+        room / (self.reaction_time + 0.5 * braking).max(1e-3)
+    }
+}
+
+/// One bound `row · q̇ ≤ bound` on the approach of a pair.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Guard {
+    /// `nᵀ J_θ` (one value per joint).
+    pub row: Vec<f64>,
+    /// Largest approach speed (m/s).
+    pub bound: f64,
+    /// Clearance of the pair (m).
+    pub distance: f64,
+    /// Skeleton segment of the pair.
+    pub segment: usize,
+    /// Obstacle index (`None` for a self-collision pair).
+    pub obstacle: Option<usize>,
+}
+
+/// One pair as the guards need it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GuardPair {
+    /// Skeleton segment and fraction along it of the arm's witness.
+    pub segment: usize,
+    /// Fraction along the segment.
+    pub fraction: f64,
+    /// The other side on the arm (self-collision): segment and fraction.
+    pub other: Option<(usize, f64)>,
+    /// Unit direction from the arm towards the other side.
+    pub normal: DVec3,
+    /// Clearance (m).
+    pub distance: f64,
+    /// Approach speed of the obstacle itself (m/s, ≥ 0 when closing in).
+    pub obstacle_speed: f64,
+    /// Obstacle index.
+    pub obstacle: Option<usize>,
+}
+
+fn jacobian_at(
+    robot: &Robot,
+    frames: &Frames,
+    skeleton: &Skeleton,
+    segment: usize,
+    fraction: f64,
+    out: &mut PointJacobians,
+) -> Result<(), FieldError> {
+    let p = DhPoint::from_skeleton(robot, frames, skeleton, segment, fraction.clamp(0.0, 1.0))?;
+    p.jacobians_into(robot, frames, out);
+    Ok(())
+}
+
+/// The guard of every pair (see the module docs), into `out`.
+///
+/// `braking` is the joints' stopping time now; `floor` (e.g. 0 during a
+/// stop) is the lowest bound asked for: a stopping arm is not asked to
+/// retreat.
+///
+/// # Errors
+/// A pair whose segment is not in the skeleton (a bug).
+#[allow(clippy::too_many_arguments)]
+pub fn guards(
+    robot: &Robot,
+    frames: &Frames,
+    skeleton: &Skeleton,
+    pairs: &[GuardPair],
+    config: &ProtectiveConfig,
+    braking: f64,
+    floor: f64,
+    out: &mut Vec<Guard>,
+) -> Result<(), FieldError> {
+    out.clear();
+    let mut ja = PointJacobians::default();
+    let mut jb = PointJacobians::default();
+    for p in pairs {
+        jacobian_at(robot, frames, skeleton, p.segment, p.fraction, &mut ja)?;
+        let mut row: Vec<f64> = ja.j_theta.iter().map(|c| p.normal.dot(*c)).collect();
+        if let Some((seg, t)) = p.other {
+            jacobian_at(robot, frames, skeleton, seg, t, &mut jb)?;
+            for (r, c) in row.iter_mut().zip(&jb.j_theta) {
+                *r -= p.normal.dot(*c);
+            }
+        }
+        out.push(Guard {
+            row,
+            bound: config
+                .bound(p.distance, p.obstacle_speed, braking)
+                .max(floor),
+            distance: p.distance,
+            segment: p.segment,
+            obstacle: p.obstacle,
+        });
+    }
+    Ok(())
+}
+
+/// The outcome of [`project`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Projection {
+    /// Largest remaining violation `row · q̇ − bound` (m/s; ≤ 1e-9 when
+    /// every guard holds).
+    pub violation: f64,
+    /// The guard with the largest violation, when one is violated.
+    pub worst: Option<usize>,
+    /// Sweeps used.
+    pub sweeps: usize,
+}
+
+/// Tolerance on a guard (m/s).
+pub const GUARD_TOLERANCE: f64 = 1e-9;
+
+const MAX_SWEEPS: usize = 200;
+
+/// `x` closest to `desired` in the metric `Σ wᵢ (xᵢ − desiredᵢ)²` with
+/// `lo ≤ x ≤ hi` and every guard `row · x ≤ bound` (Hildreth's method on the
+/// dual). Empty `weights` means unit weights.
+pub fn project(
+    desired: &[f64],
+    weights: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    guards: &[Guard],
+    x: &mut Vec<f64>,
+) -> Projection {
+    let n = desired.len();
+    x.clear();
+    x.extend_from_slice(desired);
+    let winv: Vec<f64> = (0..n)
+        .map(|i| weights.get(i).map_or(1.0, |w| 1.0 / w))
+        .collect();
+    let norms: Vec<f64> = guards
+        .iter()
+        .map(|g| g.row.iter().zip(&winv).map(|(r, w)| r * r * w).sum())
+        .collect();
+    let mut lambda = vec![0.0; guards.len()];
+    let (mut up, mut down) = (vec![0.0; n], vec![0.0; n]);
+    let mut sweeps = 0;
+    while sweeps < MAX_SWEEPS {
+        sweeps += 1;
+        let mut change: f64 = 0.0;
+        for (k, g) in guards.iter().enumerate() {
+            if norms[k] <= 1e-18 {
+                continue;
+            }
+            let gx: f64 = g.row.iter().zip(x.iter()).map(|(r, v)| r * v).sum();
+            let next = (lambda[k] + (gx - g.bound) / norms[k]).max(0.0);
+            let delta = next - lambda[k];
+            if delta != 0.0 {
+                for ((xi, r), w) in x.iter_mut().zip(&g.row).zip(&winv) {
+                    *xi -= w * r * delta;
+                }
+                lambda[k] = next;
+                change = change.max((delta * norms[k]).abs());
+            }
+        }
+        for i in 0..n {
+            // x_i ≤ hi_i (multiplier up[i]) and −x_i ≤ −lo_i (down[i]).
+            let next = (up[i] + (x[i] - hi[i]) / winv[i]).max(0.0);
+            x[i] -= winv[i] * (next - up[i]);
+            change = change.max(((next - up[i]) * winv[i]).abs());
+            up[i] = next;
+            let next = (down[i] + (lo[i] - x[i]) / winv[i]).max(0.0);
+            x[i] += winv[i] * (next - down[i]);
+            change = change.max(((next - down[i]) * winv[i]).abs());
+            down[i] = next;
+        }
+        if change < 1e-12 {
+            break;
+        }
+    }
+    for (xi, (l, h)) in x.iter_mut().zip(lo.iter().zip(hi)) {
+        *xi = xi.clamp(*l, *h);
+    }
+    let mut out = Projection {
+        sweeps,
+        ..Projection::default()
+    };
+    for (k, g) in guards.iter().enumerate() {
+        let gx: f64 = g.row.iter().zip(x.iter()).map(|(r, v)| r * v).sum();
+        let v = gx - g.bound;
+        if v > out.violation {
+            out.violation = v;
+            if v > GUARD_TOLERANCE.max(1e-6 * g.bound.abs()) {
+                out.worst = Some(k);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn guard(row: &[f64], bound: f64) -> Guard {
+        Guard {
+            row: row.to_vec(),
+            bound,
+            ..Guard::default()
+        }
+    }
+
+    #[test]
+    fn projection_is_the_weighted_closest_feasible_point() {
+        let gs = [guard(&[1.0, 1.0], 1.0)];
+        let mut x = Vec::new();
+        let p = project(&[2.0, 2.0], &[], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
+        assert!(p.worst.is_none());
+        assert!((x[0] - 0.5).abs() < 1e-9 && (x[1] - 0.5).abs() < 1e-9, "{x:?}");
+        // Joint 1 four times heavier: it moves a quarter as much.
+        project(&[2.0, 2.0], &[1.0, 4.0], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
+        assert!((x[0] + 0.4).abs() < 1e-9 && (x[1] - 1.4).abs() < 1e-9, "{x:?}");
+        // Inactive guard: untouched.
+        project(&[0.1, 0.2], &[], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
+        assert_eq!(x, vec![0.1, 0.2]);
+    }
+
+    #[test]
+    fn guards_and_box_together_and_infeasibility_reported() {
+        let gs = [guard(&[1.0, 0.0], -1.0)];
+        let mut x = Vec::new();
+        let p = project(&[0.0, 0.3], &[], &[-2.0; 2], &[2.0; 2], &gs, &mut x);
+        assert!(p.worst.is_none());
+        assert!((x[0] + 1.0).abs() < 1e-9 && (x[1] - 0.3).abs() < 1e-9);
+        // Retreat faster than the box allows: reported.
+        let gs = [guard(&[1.0, 0.0], -3.0)];
+        let p = project(&[0.0, 0.0], &[], &[-2.0; 2], &[2.0; 2], &gs, &mut x);
+        assert_eq!(p.worst, Some(0));
+        assert!((p.violation - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bound_vanishes_at_the_safety_distance() {
+        let c = ProtectiveConfig::default();
+        assert!(c.bound(c.safety_distance, 0.0, 0.2).abs() < 1e-12);
+        assert!(c.bound(0.1, 0.0, 0.2) > 0.0);
+        assert!(c.bound(0.1, 0.5, 0.2) < c.bound(0.1, 0.0, 0.2));
+        assert!(c.bound(0.005, 0.0, 0.2) < 0.0);
+    }
+}

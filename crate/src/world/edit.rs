@@ -1,0 +1,215 @@
+//! Edits of a live [`World`]: obstacles added, removed, reshaped and
+//! moved, the controller replaced, picking and reset. A refused edit leaves
+//! the world as it was.
+
+use glam::DVec3;
+
+use super::{PICK_RADIUS, Pick, World};
+use super::obstacles::ObstacleState;
+use crate::avoidance::ControllerConfig;
+use crate::avoidance::selection::Key;
+use crate::error::FieldError;
+use crate::scenario::{
+    ObstacleSpec, ScenarioError, ShapeSpec, primitives, reference_point, translated,
+    validate_controller,
+};
+
+impl World {
+    pub(super) fn index_of(&self, id: &str) -> Result<usize, FieldError> {
+        self.obstacles
+            .iter()
+            .position(|o| o.spec.id == id)
+            .ok_or_else(|| FieldError::new("id", format!("no obstacle \"{id}\"")))
+    }
+
+    /// Adds an obstacle.
+    ///
+    /// # Errors
+    /// An invalid spec (`shape.radius: must be > 0`) or an id already used;
+    /// the world is unchanged.
+    pub fn add_obstacle(&mut self, spec: ObstacleSpec) -> Result<(), ScenarioError> {
+        spec.validate()?;
+        if self.obstacles.iter().any(|o| o.spec.id == spec.id) {
+            return Err(FieldError::new("id", format!("\"{}\" is already used", spec.id)).into());
+        }
+        let k = self.obstacles.len();
+        let state = ObstacleState::new(spec.clone(), &self.scenario, k)?;
+        self.obstacles.push(state);
+        self.scenario.obstacles.push(spec);
+        self.scene_dirty = true;
+        Ok(())
+    }
+
+    /// Removes obstacle `id` (and its control points).
+    ///
+    /// # Errors
+    /// `id: no obstacle "x"`; the world is unchanged.
+    pub fn remove_obstacle(&mut self, id: &str) -> Result<(), ScenarioError> {
+        let k = self.index_of(id)?;
+        self.obstacles.remove(k);
+        self.scenario.obstacles.remove(k);
+        // Trackers refer to obstacles by index: renumber.
+        let old = std::mem::take(&mut self.trackers);
+        for (key, mut tr) in old {
+            let shift = |o: usize| {
+                if o > k {
+                    Some(o - 1)
+                } else if o == k {
+                    None
+                } else {
+                    Some(o)
+                }
+            };
+            let new_key = match key {
+                Key::Obstacle(o) => shift(o).map(Key::Obstacle),
+                Key::Pair(o, s) => shift(o).map(|o| Key::Pair(o, s)),
+                other => Some(other),
+            };
+            if let Some(nk) = new_key {
+                tr.owner = tr.owner.and_then(shift);
+                self.trackers.insert(nk, tr);
+            }
+        }
+        self.risky = self
+            .risky
+            .iter()
+            .filter_map(|&o| {
+                if o > k {
+                    Some(o - 1)
+                } else if o == k {
+                    None
+                } else {
+                    Some(o)
+                }
+            })
+            .collect();
+        self.scene_dirty = true;
+        Ok(())
+    }
+
+    /// Replaces the figure of obstacle `id` (its motion is kept).
+    ///
+    /// # Errors
+    /// An unknown id or an invalid figure; the world is unchanged.
+    pub fn set_obstacle_shape(&mut self, id: &str, shape: ShapeSpec) -> Result<(), ScenarioError> {
+        let k = self.index_of(id)?;
+        let parts = primitives(&shape).map_err(|e| e.within("shape"))?;
+        let o = &mut self.obstacles[k];
+        o.reference = reference_point(&shape);
+        o.parts = parts;
+        o.spec.shape = shape.clone();
+        self.scenario.obstacles[k].shape = shape;
+        self.scene_dirty = true;
+        Ok(())
+    }
+
+    /// Translates obstacle `id` by `delta` (m).
+    ///
+    /// # Errors
+    /// An unknown id or a non-finite `delta`; the world is unchanged.
+    pub fn translate_obstacle(&mut self, id: &str, delta: DVec3) -> Result<(), ScenarioError> {
+        let k = self.index_of(id)?;
+        crate::error::finite3("position", delta)?;
+        let shape = translated(&self.obstacles[k].spec.shape, delta);
+        self.set_obstacle_shape(id, shape)
+    }
+
+    /// Moves obstacle `id` so that its reference point (see
+    /// [`reference_point`]) is at `position` now.
+    ///
+    /// # Errors
+    /// An unknown id or a non-finite position; the world is unchanged.
+    pub fn set_obstacle_position(
+        &mut self,
+        id: &str,
+        position: DVec3,
+    ) -> Result<(), ScenarioError> {
+        let k = self.index_of(id)?;
+        crate::error::finite3("position", position)?;
+        let o = &self.obstacles[k];
+        let now = o.reference + o.offset(self.t);
+        self.translate_obstacle(id, position - now)
+    }
+
+    /// Replaces the controller configuration (mode, selection, gains…).
+    ///
+    /// # Errors
+    /// An invalid value (`influenceDistance: must be > 0`); the world is
+    /// unchanged.
+    pub fn set_controller(&mut self, config: ControllerConfig) -> Result<(), ScenarioError> {
+        validate_controller(&config, &self.robot).map_err(|e| e.within("controller"))?;
+        if config.selection != self.scenario.controller.selection
+            || config.pinned != self.scenario.controller.pinned
+        {
+            self.trackers.clear();
+        }
+        self.scenario.controller = config;
+        Ok(())
+    }
+
+    /// The current controller configuration with the fields of `partial`
+    /// (a JSON object, nested objects merged) replaced.
+    ///
+    /// # Errors
+    /// Unknown fields or wrong types, with their path under `controller`.
+    pub fn merged_controller(
+        &self,
+        partial: &serde_json::Value,
+    ) -> Result<ControllerConfig, ScenarioError> {
+        let mut base = serde_json::to_value(&self.scenario.controller)
+            .map_err(|e| FieldError::new("controller", e.to_string()))?;
+        merge_json(&mut base, partial);
+        let cfg: ControllerConfig = serde_path_to_error::deserialize(base).map_err(|e| {
+            crate::error::from_serde_path(&e.path().to_string(), &e.inner().to_string())
+                .within("controller")
+        })?;
+        Ok(cfg)
+    }
+
+    /// The first obstacle hit by the ray from `origin` along `direction`
+    /// (true poses).
+    ///
+    /// # Errors
+    /// Non-finite input or a zero direction.
+    pub fn pick(&self, origin: DVec3, direction: DVec3) -> Result<Option<Pick>, ScenarioError> {
+        let scene = self.clone_scene_at(self.t);
+        let hit = scene.pick(origin, direction, PICK_RADIUS)?;
+        let mut owners = Vec::new();
+        for (k, o) in self.obstacles.iter().enumerate() {
+            owners.extend(std::iter::repeat_n(k, o.parts.len()));
+        }
+        Ok(hit.and_then(|h| {
+            owners.get(h.id as usize).map(|&k| Pick {
+                id: self.obstacles[k].spec.id.clone(),
+                point: h.point.to_array(),
+                distance: h.distance,
+            })
+        }))
+    }
+
+    /// Back to `t = 0` and `q0` with the obstacles and controller as edited;
+    /// events, control points and sensing streams start afresh.
+    pub fn reset(&mut self) {
+        let scenario = self.scenario.clone();
+        if let Ok(w) = Self::new(scenario) {
+            *self = w;
+        }
+    }
+}
+
+fn merge_json(base: &mut serde_json::Value, patch: &serde_json::Value) {
+    match (base, patch) {
+        (serde_json::Value::Object(b), serde_json::Value::Object(p)) => {
+            for (k, v) in p {
+                match b.get_mut(k) {
+                    Some(slot) if slot.is_object() && v.is_object() => merge_json(slot, v),
+                    _ => {
+                        b.insert(k.clone(), v.clone());
+                    }
+                }
+            }
+        }
+        (b, p) => *b = p.clone(),
+    }
+}
+

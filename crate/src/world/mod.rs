@@ -1,0 +1,401 @@
+//! A live simulation: the arm, the obstacles, the controller and the
+//! monitor, stepped interactively ([`World`]) or run to the end of a
+//! scenario ([`simulate`]).
+//!
+//! `World` holds the state; one [`World::step`] runs the control step as a
+//! pipeline of named stages, each a function of the module named after its
+//! part of the paper (the stages are called from `world/step.rs`):
+//!
+//! | # | stage | where | paper |
+//! |---|---|---|---|
+//! | 1 | **sense**: obstacles at `t`, then as sensed (sensing error) | `world/obstacles.rs`, [`crate::dependability::SensorModel`] | §IV |
+//! | 2 | **scene query**: forward kinematics, skeleton, every segment against every obstacle within reach (and non-adjacent links against each other) | [`crate::kinematics`], [`crate::skeleton`], [`crate::distance::Scene::query`] | §II |
+//! | 3 | **select**: control points per pair / per obstacle / pinned / self | [`crate::avoidance::selection::select`] | §II, fig. 4 |
+//! | 4 | **transition**: each control point follows its selected point, travelling along the skeleton when it jumps | [`crate::transition::MovingPoint`] | §III-B |
+//! | 5 | **monitor**: switch risk, chattering (stop or lock), time to collision | [`crate::dependability`] | §IV |
+//! | 6 | **control**: repulsion and tasks → requested joint velocities | [`crate::avoidance::control`] | §III-A, eq. 4 |
+//! | 7 | **protect**: every pair's approach bounded so the arm can stop before contact | [`crate::avoidance::protect`] | — (ISO/TS 15066) |
+//! | 8 | **limit**: jerk-limited tracking within the joints' limits | [`crate::avoidance::limits`] | — |
+//! | 9 | **integrate**: `q += q̇ dt`, `t += dt` | `world/step.rs` | — |
+//!
+//! A stop (chattering, or an unavoidable approach) is category 2: the
+//! request becomes zero, the protective layer stays on (asking no retreat),
+//! the limiter brings the joints to rest within their acceleration and jerk
+//! limits, and the arm holds still until it resumes.
+//!
+//! Everything is deterministic: the same scenario gives the same trace, bit
+//! for bit, natively and in wasm.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use glam::DVec3;
+
+use crate::avoidance::limits::JointMotion;
+use crate::avoidance::protect::{Guard, GuardPair};
+use crate::avoidance::selection::Key;
+use crate::avoidance::{ControllerConfig, TaskReference};
+use crate::dependability::{Event, EventKind};
+use crate::distance::{Primitive, PrimitiveSpec, Scene};
+use crate::error::FieldError;
+use crate::kinematics::{Frames, Robot};
+use crate::scenario::{ObstacleSpec, Scenario, ScenarioError, ShapeSpec, TaskSpec, Trace};
+use crate::skeleton::Skeleton;
+
+mod edit;
+mod obstacles;
+mod state;
+mod step;
+mod track;
+
+use obstacles::ObstacleState;
+pub use state::{
+    ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonState, Uncertainty,
+    WorldState,
+};
+use track::Tracker;
+
+/// Events a live [`World`] keeps (the oldest half is dropped beyond this;
+/// [`simulate`] keeps every event).
+pub const MAX_EVENTS: usize = 20_000;
+
+/// Radius within which a pick ray catches points and segments (m).
+pub const PICK_RADIUS: f64 = 0.02;
+
+/// Why the arm is stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum StopReason {
+    /// A chattering control point (policy `stop`).
+    Chattering,
+    /// The protective layer could not keep a pair safe.
+    Unavoidable,
+}
+
+/// A simulation that steps on demand and accepts edits.
+#[derive(Clone, Debug)]
+pub struct World {
+    scenario: Scenario,
+    robot: Robot,
+    adjacency: Vec<Vec<bool>>,
+    q: Vec<f64>,
+    motion: JointMotion,
+    t: f64,
+    frames: Frames,
+    skeleton: Skeleton,
+    obstacles: Vec<ObstacleState>,
+    scene: Scene,
+    owners: Vec<usize>,
+    scene_dirty: bool,
+    trackers: BTreeMap<Key, Tracker>,
+    risky: BTreeSet<usize>,
+    anchors: Vec<DVec3>,
+    references: Vec<TaskReference>,
+    guards: Vec<Guard>,
+    guard_pairs: Vec<GuardPair>,
+    request: Vec<f64>,
+    stopped: bool,
+    stop_reason: Option<StopReason>,
+    stopped_until: f64,
+    unavoidable: BTreeSet<usize>,
+    events: Vec<Event>,
+    events_dropped: usize,
+    keep_all_events: bool,
+    points: Vec<ControlPointState>,
+    min_clearance: Option<f64>,
+    time_to_collision: Option<f64>,
+    step_t: f64,
+    step_q: Vec<f64>,
+}
+
+fn err(e: FieldError) -> ScenarioError {
+    ScenarioError::Field(e)
+}
+
+impl World {
+    /// A world at `t = 0` for `scenario` (validated first).
+    ///
+    /// # Errors
+    /// Whatever [`Scenario::validate`] reports (JSON path and reason).
+    ///
+    /// # Example
+    /// ```
+    /// use skeleton_avoidance::scenario;
+    /// use skeleton_avoidance::world::World;
+    /// let mut world = World::new(scenario::example("lwr4-elbow")?)?;
+    /// for _ in 0..1000 {
+    ///     world.step(0.001);
+    /// }
+    /// let state = world.state();
+    /// assert!((state.t - 1.0).abs() < 1e-9);
+    /// assert!(state.min_clearance.unwrap() > 0.0);
+    /// # Ok::<(), skeleton_avoidance::scenario::ScenarioError>(())
+    /// ```
+    pub fn new(scenario: Scenario) -> Result<Self, ScenarioError> {
+        scenario.validate()?;
+        let robot = scenario.build_robot().map_err(err)?;
+        let mut q = scenario
+            .q0
+            .clone()
+            .unwrap_or_else(|| vec![0.0; robot.dof()]);
+        robot.clamp_to_limits(&mut q);
+        let frames = robot.forward(&q).map_err(err)?;
+        let skeleton = Skeleton::build(&robot, &frames);
+        let adjacency = link_adjacency(&robot, &skeleton);
+        let obstacles = scenario
+            .obstacles
+            .iter()
+            .enumerate()
+            .map(|(k, o)| {
+                ObstacleState::new(o.clone(), &scenario, k)
+                    .map_err(|e| e.within(&format!("obstacles[{k}]")))
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(err)?;
+        let anchors = scenario.task.anchors(&robot, &frames);
+        let n = robot.dof();
+        let mut w = Self {
+            scenario,
+            robot,
+            adjacency,
+            q,
+            motion: JointMotion::rest(n),
+            t: 0.0,
+            frames,
+            skeleton,
+            obstacles,
+            scene: Scene::default(),
+            owners: Vec::new(),
+            scene_dirty: true,
+            trackers: BTreeMap::new(),
+            risky: BTreeSet::new(),
+            anchors,
+            references: Vec::new(),
+            guards: Vec::new(),
+            guard_pairs: Vec::new(),
+            request: Vec::new(),
+            stopped: false,
+            stop_reason: None,
+            stopped_until: 0.0,
+            unavoidable: BTreeSet::new(),
+            events: Vec::new(),
+            events_dropped: 0,
+            keep_all_events: false,
+            points: Vec::new(),
+            min_clearance: None,
+            time_to_collision: None,
+            step_t: 0.0,
+            step_q: Vec::new(),
+        };
+        w.rebuild_scene(0.0, false);
+        Ok(w)
+    }
+
+    /// The scenario as edited so far.
+    #[must_use]
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// The robot.
+    #[must_use]
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+
+    /// Simulation time (s).
+    #[must_use]
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// Joint values.
+    #[must_use]
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// The frames at the current `q`.
+    #[must_use]
+    pub fn frames(&self) -> &Frames {
+        &self.frames
+    }
+
+    /// The skeleton at the current `q`.
+    #[must_use]
+    pub fn skeleton(&self) -> &Skeleton {
+        &self.skeleton
+    }
+
+    /// The active control points of the last step.
+    #[must_use]
+    pub fn control_points(&self) -> &[ControlPointState] {
+        &self.points
+    }
+
+    /// The obstacles' primitives at their true pose now, with their ids.
+    #[must_use]
+    pub fn obstacle_primitives(&self) -> Vec<(String, Primitive)> {
+        let mut out = Vec::new();
+        for o in &self.obstacles {
+            let off = o.offset(self.t);
+            for p in &o.parts {
+                out.push((o.spec.id.clone(), p.translated(off)));
+            }
+        }
+        out
+    }
+
+    /// The events kept (every event so far, up to [`MAX_EVENTS`]).
+    #[must_use]
+    pub fn events(&self) -> &[Event] {
+        &self.events
+    }
+
+    /// Number of events since the start (or the last reset), including
+    /// those no longer kept: the cursor for [`World::state_since`].
+    #[must_use]
+    pub fn event_count(&self) -> usize {
+        self.events_dropped + self.events.len()
+    }
+
+    /// Whether the monitor is stopping the robot (or holding it stopped).
+    #[must_use]
+    pub fn is_stopped(&self) -> bool {
+        self.stopped
+    }
+
+    /// Joint velocities and accelerations.
+    #[must_use]
+    pub fn motion(&self) -> &JointMotion {
+        &self.motion
+    }
+
+    pub(super) fn push(&mut self, kind: EventKind) {
+        self.events.push(Event { t: self.t, kind });
+    }
+
+    pub(super) fn name(&self, key: &Key) -> String {
+        match key {
+            Key::Obstacle(o) | Key::Pair(o, _) => self.obstacles[*o].spec.id.clone(),
+            Key::Pinned(k) => format!("pinned:{k}"),
+            Key::SelfPair(_, other) => format!("self:{}", self.skeleton.segments[*other].link),
+        }
+    }
+}
+
+/// Links that never repel each other: links whose segments share a node,
+/// and links one such neighbour apart (a short link between two long ones
+/// keeps their volumes overlapping at the joint). Links without segments
+/// are passed through.
+fn link_adjacency(robot: &Robot, skeleton: &Skeleton) -> Vec<Vec<bool>> {
+    let n = robot.dof() + 1;
+    let mut direct = vec![vec![false; n]; n];
+    for a in &skeleton.segments {
+        for b in &skeleton.segments {
+            let share = a.from == b.from || a.from == b.to || a.to == b.from || a.to == b.to;
+            if share && a.link < n && b.link < n {
+                direct[a.link][b.link] = true;
+            }
+        }
+    }
+    let mut adj = direct.clone();
+    for (i, row) in adj.iter_mut().enumerate() {
+        row[i] = true;
+        for (k, via) in direct[i].iter().enumerate() {
+            if *via {
+                for (j, hop) in direct[k].iter().enumerate() {
+                    if *hop {
+                        row[j] = true;
+                    }
+                }
+            }
+        }
+    }
+    adj
+}
+
+/// Runs `scenario` from `t = 0` to its duration and returns the trace
+/// (a sample every `sampleEvery` steps, then every event).
+///
+/// # Errors
+/// Whatever [`Scenario::validate`] reports.
+///
+/// # Example
+/// ```
+/// use skeleton_avoidance::{scenario, world};
+/// let trace = world::simulate(&scenario::example("planar-transition")?)?;
+/// assert!(!trace.samples.is_empty());
+/// # Ok::<(), skeleton_avoidance::scenario::ScenarioError>(())
+/// ```
+pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
+    let mut world = World::new(scenario.clone())?;
+    world.keep_all_events = true;
+    let steps = (scenario.duration / scenario.dt).round() as u64;
+    let every = scenario.sample_every.max(1) as u64;
+    let mut samples = Vec::new();
+    for k in 0..steps {
+        world.step(scenario.dt);
+        if k % every == 0 {
+            samples.push(world.sample());
+        }
+    }
+    Ok(Trace {
+        samples,
+        events: world.events,
+    })
+}
+
+/// The control-step benchmark's world: `lwr4` following a circular
+/// end-effector trajectory among `obstacles` static spheres (radius 5 cm)
+/// spread pseudo-randomly (seeded) over a 1.6 × 1.6 × 1.2 m box around it,
+/// at 1 kHz. Shared by the criterion bench and the wasm export so both time
+/// the same work.
+///
+/// # Errors
+/// None in practice (the scenario is valid by construction).
+pub fn control_step_workload(obstacles: usize) -> Result<World, ScenarioError> {
+    use crate::distance::SphereSpec;
+    let mut rng = crate::rng::Rng::new(11);
+    let obstacles = (0..obstacles)
+        .map(|k| ObstacleSpec {
+            id: format!("o{k}"),
+            shape: ShapeSpec::Primitive(PrimitiveSpec::Sphere(SphereSpec {
+                center: [
+                    rng.range(-0.8, 0.8),
+                    rng.range(-0.8, 0.8),
+                    rng.range(0.0, 1.2),
+                ],
+                radius: 0.05,
+            })),
+            motion: None,
+        })
+        .collect();
+    let points: Vec<[f64; 3]> = (0..=8)
+        .map(|k| {
+            let a = std::f64::consts::TAU * f64::from(k) / 8.0;
+            [
+                0.45 + 0.1 * crate::math::cos(a),
+                0.1 * crate::math::sin(a),
+                0.6,
+            ]
+        })
+        .collect();
+    let times = (0..=8).map(|k| 0.5 * f64::from(k)).collect();
+    let scenario = Scenario {
+        robot: crate::scenario::RobotRef::Preset("lwr4".to_owned()),
+        q0: Some(vec![0.0, 0.6, 0.0, -1.2, 0.0, 0.6, 0.0]),
+        obstacles,
+        task: TaskSpec::Trajectory {
+            points,
+            times,
+            chain: 0,
+        }
+        .into(),
+        controller: ControllerConfig::default(),
+        sensing: crate::scenario::SensingConfig::default(),
+        dependability: crate::dependability::DependabilityConfig::default(),
+        dt: 0.001,
+        duration: 4.0,
+        sample_every: 1,
+    };
+    World::new(scenario)
+}

@@ -1,0 +1,218 @@
+//! What a [`World`] shows after a step: [`WorldState`] for viewers, trace
+//! [`Sample`]s for [`super::simulate`].
+
+use serde::Serialize;
+
+use super::World;
+use crate::control_point::DhPoint;
+use crate::dependability::Event;
+use crate::distance::PrimitiveSpec;
+use crate::scenario::{Sample, ShapeSpec, TracePoint, translated};
+
+/// An active control point in [`WorldState`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ControlPointState {
+    /// Position (m).
+    pub position: [f64; 3],
+    /// Link (1-based).
+    pub link: usize,
+    /// DH value `d'` (m).
+    pub d: f64,
+    /// DH value `a'` (m).
+    pub a: f64,
+    /// Id of the obstacle it answers (`self:<link>` for self-collision,
+    /// `pinned:<k>` for a pinned point with no obstacle in reach).
+    pub obstacle: String,
+    /// Measured clearance (m).
+    pub distance: f64,
+    /// Closest point of the obstacle (m).
+    pub witness: [f64; 3],
+    /// Repulsion: velocity (m/s) in velocity and `clik2` modes, force (N)
+    /// in torque mode.
+    pub repulsion: [f64; 3],
+    /// Whether it is travelling along the skeleton.
+    pub transitioning: bool,
+    /// Where it goes while transitioning.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub target: Option<DhPoint>,
+}
+
+/// A skeleton segment in [`WorldState`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SegmentState {
+    /// Index of the first node.
+    pub from: usize,
+    /// Index of the second node.
+    pub to: usize,
+    /// Link (1-based).
+    pub link: usize,
+    /// Radius at each end (m).
+    pub radius: [f64; 2],
+}
+
+/// The skeleton in [`WorldState`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SkeletonState {
+    /// Node positions (m).
+    pub nodes: Vec<[f64; 3]>,
+    /// Segments.
+    pub segments: Vec<SegmentState>,
+}
+
+/// An obstacle in [`WorldState`]: its figure where it is now (true pose).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ObstacleStateOut {
+    /// Id.
+    pub id: String,
+    /// Figure at its current pose.
+    pub shape: ShapeSpec,
+    /// The primitives it is made of (one, or a human's parts).
+    pub parts: Vec<PrimitiveSpec>,
+}
+
+/// The inflated margin of one obstacle.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Uncertainty {
+    /// Obstacle id.
+    pub obstacle: String,
+    /// Distance uncertainty added to the safety margin (m).
+    pub radius: f64,
+}
+
+/// Everything a viewer needs after a step (serde, camelCase).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct WorldState {
+    /// Time (s).
+    pub t: f64,
+    /// Joint values.
+    pub q: Vec<f64>,
+    /// Joint velocities.
+    pub qdot: Vec<f64>,
+    /// Joint accelerations.
+    pub qddot: Vec<f64>,
+    /// Smallest clearance (m) between the arm and any obstacle (true poses)
+    /// or between non-adjacent links, among pairs within reach.
+    pub min_clearance: Option<f64>,
+    /// The skeleton at `q`.
+    pub skeleton: SkeletonState,
+    /// Obstacles at their current pose.
+    pub obstacles: Vec<ObstacleStateOut>,
+    /// Active control points (of the last step).
+    pub control_points: Vec<ControlPointState>,
+    /// Inflated margins of obstacles sensed with error.
+    pub uncertainty: Vec<Uncertainty>,
+    /// Events (all so far, or since a cursor).
+    pub events: Vec<Event>,
+    /// Smallest time to collision of the last step (s), if any point closes in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_to_collision: Option<f64>,
+    /// Whether the monitor is stopping the robot.
+    pub stopped: bool,
+}
+
+/// The result of [`World::pick`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Pick {
+    /// Obstacle id.
+    pub id: String,
+    /// Where the ray meets it (m).
+    pub point: [f64; 3],
+    /// Distance along the ray (m).
+    pub distance: f64,
+}
+
+impl World {
+    /// A snapshot of everything a viewer needs, with every event kept (a
+    /// viewer polling each frame should use [`World::state_since`]).
+    #[must_use]
+    pub fn state(&self) -> WorldState {
+        self.state_since(0)
+    }
+
+    /// [`World::state`] with only the events from number `cursor` on (the
+    /// [`World::event_count`] when the caller last read them).
+    #[must_use]
+    pub fn state_since(&self, cursor: usize) -> WorldState {
+        let sk = &self.skeleton;
+        let obstacles = self
+            .obstacles
+            .iter()
+            .map(|o| {
+                let shape = translated(&o.spec.shape, o.offset(self.t));
+                let parts = match &shape {
+                    ShapeSpec::Primitive(p) => vec![p.clone()],
+                    ShapeSpec::Human(h) => h.parts(),
+                };
+                ObstacleStateOut {
+                    id: o.spec.id.clone(),
+                    shape,
+                    parts,
+                }
+            })
+            .collect();
+        WorldState {
+            t: self.t,
+            q: self.q.clone(),
+            qdot: self.motion.qdot.clone(),
+            qddot: self.motion.qddot.clone(),
+            min_clearance: self.min_clearance,
+            skeleton: SkeletonState {
+                nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
+                segments: sk
+                    .segments
+                    .iter()
+                    .map(|s| SegmentState {
+                        from: s.from,
+                        to: s.to,
+                        link: s.link,
+                        radius: s.radius,
+                    })
+                    .collect(),
+            },
+            obstacles,
+            control_points: self.points.clone(),
+            uncertainty: self
+                .obstacles
+                .iter()
+                .filter(|o| o.margin > 0.0)
+                .map(|o| Uncertainty {
+                    obstacle: o.spec.id.clone(),
+                    radius: o.margin,
+                })
+                .collect(),
+            events: self
+                .events
+                .get(cursor.saturating_sub(self.events_dropped)..)
+                .unwrap_or(&[])
+                .to_vec(),
+            time_to_collision: self.time_to_collision,
+            stopped: self.stopped,
+        }
+    }
+
+    /// One trace sample: the time, joints, clearance and control points the
+    /// last step acted on.
+    #[must_use]
+    pub fn sample(&self) -> Sample {
+        Sample {
+            t: self.step_t,
+            q: self.step_q.clone(),
+            min_clearance: self.min_clearance,
+            control_points: self
+                .points
+                .iter()
+                .map(|c| TracePoint {
+                    position: c.position,
+                    link: c.link,
+                    d: c.d,
+                    a: c.a,
+                    obstacle: c.obstacle.clone(),
+                    distance: c.distance,
+                })
+                .collect(),
+        }
+    }
+
+}

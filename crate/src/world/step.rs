@@ -1,0 +1,359 @@
+//! One control step of a [`World`]: the stages of the pipeline, called in
+//! order by [`World::step`] (the table is in the [`super`] module docs).
+
+use glam::DVec3;
+
+use super::{MAX_EVENTS, StopReason, World};
+use crate::avoidance::limits::{self, braking_time, velocity_box};
+use crate::avoidance::protect::{self, GuardPair};
+use crate::avoidance::selection::{self, Key, fraction_on};
+use crate::avoidance::{self, ActivePoint, ControllerConfig, Mode};
+use crate::control_point::DhPoint;
+use crate::dependability::{EventKind, time_to_collision};
+use crate::distance::{PairDistance, QueryOptions, Target};
+use crate::error::FieldError;
+use crate::kinematics::ik::PointMotion;
+use crate::skeleton::Skeleton;
+use crate::transition::dh_motion;
+
+use super::state::ControlPointState;
+
+impl World {
+    /// Advances the simulation by `dt` seconds (one control step). A
+    /// non-finite or non-positive `dt` does nothing.
+    pub fn step(&mut self, dt: f64) {
+        if !(dt.is_finite() && dt > 0.0) {
+            return;
+        }
+        if self.step_inner(dt).is_err() {
+            // Only reachable through a bug: brake as a stop would.
+            let n = self.robot.dof();
+            let robot = &self.robot;
+            limits::step(robot, &self.q, &vec![0.0; n], &mut self.motion, dt);
+        }
+        if !self.keep_all_events && self.events.len() > MAX_EVENTS {
+            let drop = self.events.len() - MAX_EVENTS / 2;
+            self.events.drain(..drop);
+            self.events_dropped += drop;
+        }
+    }
+
+    fn step_inner(&mut self, dt: f64) -> Result<(), FieldError> {
+        let cfg = self.scenario.controller.clone();
+        // 1. sense
+        let moving = self.obstacles.iter().any(super::ObstacleState::moves);
+        if moving || self.scene_dirty {
+            self.rebuild_scene(self.t, true);
+        }
+        // 2. scene query
+        let pairs = self.scene_query(&cfg)?;
+        // 3. select
+        let margins: Vec<f64> = self.obstacles.iter().map(|o| o.margin).collect();
+        let selected = selection::select(&pairs, &self.owners, &margins, &self.skeleton, &cfg);
+        // 4.–5. transition and monitor
+        self.monitor_switch_risk(&pairs, &selected, &cfg);
+        self.track(&selected, &pairs, dt, &cfg)?;
+        let active = self.active_points(&cfg, dt)?;
+        // 6. control
+        self.control(&cfg, &active, dt)?;
+        // 7. protect
+        let all_hold = self.protect(&cfg, &pairs, dt)?;
+        self.maybe_resume(all_hold);
+        // 8.–9. limit and integrate
+        self.limit_and_integrate(dt);
+        Ok(())
+    }
+
+    /// Stage 2: forward kinematics, skeleton, and the scene query against
+    /// the obstacles as sensed; also the true smallest clearance.
+    fn scene_query(&mut self, cfg: &ControllerConfig) -> Result<Vec<PairDistance>, FieldError> {
+        if cfg.mode == Mode::Clik2 {
+            self.frames = self.robot.forward_with_velocity(&self.q, &self.motion.qdot)?;
+        } else {
+            self.robot.forward_into(&self.q, &mut self.frames)?;
+        }
+        self.skeleton.build_into(&self.robot, &self.frames);
+        let max_margin = self.obstacles.iter().map(|o| o.margin).fold(0.0, f64::max);
+        let options = QueryOptions {
+            influence_distance: cfg.influence_distance + max_margin,
+            self_collision: cfg.self_collision,
+            ..QueryOptions::default()
+        };
+        let adjacency = &self.adjacency;
+        let query = |scene: &crate::distance::Scene| {
+            scene
+                .query(&self.skeleton, &options, |i, j| adjacency[i][j])
+                .map_err(|e| FieldError::new("scene", e.to_string()))
+        };
+        let pairs = query(&self.scene)?;
+        self.min_clearance = if self.obstacles.iter().any(|o| !o.sensor.is_exact()) {
+            let exact = query(&self.clone_scene_at(self.t))?;
+            exact.iter().map(|p| p.distance).reduce(f64::min)
+        } else {
+            pairs.iter().map(|p| p.distance).reduce(f64::min)
+        };
+        Ok(pairs)
+    }
+
+    /// Where control point `key` is, its clearance, normal and witness.
+    fn locate(
+        &self,
+        key: &Key,
+        owner: Option<usize>,
+        position: DVec3,
+        radius: f64,
+    ) -> Result<(f64, DVec3, DVec3, Option<usize>), FieldError> {
+        if let Key::SelfPair(_, other) = key {
+            let seg = &self.skeleton.segments[*other];
+            let u = fraction_on(&self.skeleton, *other, position);
+            let (a, b) = self.skeleton.endpoints(seg);
+            let c = a + (b - a) * u;
+            let r2 = Skeleton::radius_at(seg, u);
+            let v = c - position;
+            let len = v.length();
+            let n = if len > 0.0 { v / len } else { DVec3::Z };
+            return Ok((len - radius - r2, n, c - n * r2, None));
+        }
+        let owner = match key {
+            Key::Pinned(_) => self.closest_obstacle(position),
+            _ => owner,
+        };
+        Ok(match owner {
+            Some(o) => {
+                let (d, n, w) = self.point_distance(o, position)?;
+                (d - radius, n, w, Some(o))
+            }
+            None => (f64::INFINITY, DVec3::Z, position, None),
+        })
+    }
+
+    /// The active control points where they are now, with their repulsion,
+    /// time to collision and the `transitionTooSlow` monitor.
+    fn active_points(
+        &mut self,
+        cfg: &ControllerConfig,
+        dt: f64,
+    ) -> Result<Vec<ActivePoint>, FieldError> {
+        let mut active = Vec::new();
+        let mut states = Vec::new();
+        let mut min_ttc = f64::INFINITY;
+        let keys: Vec<Key> = self.trackers.keys().cloned().collect();
+        for key in keys {
+            let Some(tr) = self.trackers.get(&key) else {
+                continue;
+            };
+            let (dh, radius) = if let Key::Pinned(k) = key {
+                let Some(p) = cfg.pinned.get(k) else { continue };
+                (*p, self.robot.joints[p.link - 1].radius[0])
+            } else {
+                let pt = tr.mover.point();
+                let (dh, _) = dh_motion(&self.robot, &self.frames, &self.skeleton, pt, 0.0, 0.0)?;
+                let seg = &self.skeleton.segments[pt.segment];
+                (dh, Skeleton::radius_at(seg, pt.t))
+            };
+            let (prev, remaining, owner) = (tr.prev_distance, tr.mover.remaining(), tr.owner);
+            let target = tr.mover.transition().map(|x| x.target());
+            let was_slow = tr.too_slow;
+            let position = dh.position(&self.robot, &self.frames);
+            let (dist, normal, witness, owner) = self.locate(&key, owner, position, radius)?;
+            let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
+            let effective = dist - margin;
+            let ap = ActivePoint {
+                dh,
+                motion: PointMotion::default(),
+                normal,
+                distance: effective,
+            };
+            let gain = if cfg.mode == Mode::Torque {
+                cfg.torque.force_gain
+            } else {
+                1.0
+            };
+            let name = match (&key, owner) {
+                (Key::Pinned(k), None) => format!("pinned:{k}"),
+                (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
+                _ => self.name(&key),
+            };
+            let ttc = prev.map_or(f64::INFINITY, |p| time_to_collision(effective, (p - effective) / dt));
+            min_ttc = min_ttc.min(ttc);
+            let too_slow = remaining > 0.0 && ttc < remaining;
+            if let Some(trm) = self.trackers.get_mut(&key) {
+                trm.prev_distance = Some(effective);
+                trm.too_slow = too_slow;
+            }
+            if too_slow && !was_slow {
+                self.push(EventKind::TransitionTooSlow {
+                    obstacle: name.clone(),
+                    time_to_collision: ttc,
+                    remaining,
+                });
+            }
+            let target = target.and_then(|x| {
+                DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
+                    .ok()
+            });
+            if dist.is_finite() {
+                active.push(ap);
+            }
+            states.push(ControlPointState {
+                position: position.to_array(),
+                link: dh.link,
+                d: dh.d,
+                a: dh.a,
+                obstacle: name,
+                distance: dist,
+                witness: witness.to_array(),
+                repulsion: (ap.repulsion(cfg) * gain).to_array(),
+                transitioning: target.is_some(),
+                target,
+            });
+        }
+        self.points = states;
+        self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
+        Ok(active)
+    }
+
+    /// Stage 6: the controller's requested joint velocities (zero while
+    /// stopped).
+    fn control(
+        &mut self,
+        cfg: &ControllerConfig,
+        active: &[ActivePoint],
+        dt: f64,
+    ) -> Result<(), FieldError> {
+        let mut refs = std::mem::take(&mut self.references);
+        self.scenario
+            .task
+            .references(&self.robot, self.t, &self.anchors, &mut refs);
+        let (robot, frames, qdot) = (&self.robot, &self.frames, &self.motion.qdot);
+        let request = match cfg.mode {
+            Mode::Velocity => avoidance::velocity_control(robot, frames, active, &refs, cfg)?,
+            Mode::Torque => avoidance::torque_control(robot, frames, qdot, active, &refs, cfg, dt)?.0,
+            Mode::Clik2 => {
+                avoidance::clik2_control(robot, frames, &self.q, qdot, active, &refs, cfg, dt)?
+            }
+        };
+        self.references = refs;
+        self.request = request;
+        if self.stopped {
+            self.request.iter_mut().for_each(|v| *v = 0.0);
+        }
+        Ok(())
+    }
+
+    /// The pairs the protective layer guards: every pair within the
+    /// influence distance, obstacles as sensed (margin subtracted).
+    fn guard_pairs(&mut self, cfg: &ControllerConfig, pairs: &[PairDistance], dt: f64) {
+        let mut out = std::mem::take(&mut self.guard_pairs);
+        out.clear();
+        for p in pairs {
+            let (distance, obstacle, other, speed) = match p.target {
+                Target::Obstacle { id, .. } => {
+                    let o = self.owners[id as usize];
+                    let v = self.obstacles[o].velocity(self.t, dt);
+                    (p.distance - self.obstacles[o].margin, Some(o), None, -p.normal.dot(v))
+                }
+                Target::Segment(other) => {
+                    let u = fraction_on(&self.skeleton, other, p.point_other);
+                    (p.distance, None, Some((other, u)), 0.0)
+                }
+            };
+            if distance > cfg.influence_distance {
+                continue;
+            }
+            out.push(GuardPair {
+                segment: p.segment,
+                fraction: p.fraction,
+                other,
+                normal: p.normal,
+                distance,
+                obstacle_speed: speed,
+                obstacle,
+            });
+        }
+        self.guard_pairs = out;
+    }
+
+    /// Stage 7: the protective layer. Projects the request onto the guards
+    /// and the admissible velocity box; an infeasible guard stops the arm
+    /// (`unavoidable`). Returns whether every guard holds with the arm at
+    /// rest (a stop after an unavoidable approach may then end).
+    fn protect(
+        &mut self,
+        cfg: &ControllerConfig,
+        pairs: &[PairDistance],
+        dt: f64,
+    ) -> Result<bool, FieldError> {
+        let p = cfg.protective;
+        if !p.enabled {
+            return Ok(true);
+        }
+        self.guard_pairs(cfg, pairs, dt);
+        let braking = braking_time(&self.robot, &self.motion, dt);
+        let floor = if self.stopped { 0.0 } else { f64::NEG_INFINITY };
+        let mut guards = std::mem::take(&mut self.guards);
+        protect::guards(
+            &self.robot,
+            &self.frames,
+            &self.skeleton,
+            &self.guard_pairs,
+            &p,
+            braking,
+            floor,
+            &mut guards,
+        )?;
+        let all_hold = self.guard_pairs.iter().all(|g| {
+            p.bound(g.distance, g.obstacle_speed, braking) >= 0.0
+        });
+        let (lo, hi) = velocity_box(&self.robot, &self.q);
+        let weights = cfg.joint_weights.as_deref().unwrap_or(&[]);
+        let mut out = Vec::with_capacity(self.request.len());
+        let result = protect::project(&self.request, weights, &lo, &hi, &guards, &mut out);
+        self.request = out;
+        let mut now = std::collections::BTreeSet::new();
+        if let Some(k) = result.worst {
+            let g = &guards[k];
+            let key = g.obstacle.unwrap_or(usize::MAX);
+            now.insert(key);
+            if !self.unavoidable.contains(&key) {
+                let obstacle = g.obstacle.map_or_else(
+                    || format!("self:{}", self.skeleton.segments[g.segment].link),
+                    |o| self.obstacles[o].spec.id.clone(),
+                );
+                self.push(EventKind::Unavoidable {
+                    obstacle: obstacle.clone(),
+                    segment: g.segment,
+                    distance: g.distance,
+                    excess: result.violation,
+                });
+                let hold = self.scenario.dependability.lock_time;
+                self.stop(
+                    StopReason::Unavoidable,
+                    format!("unavoidable approach ({obstacle})"),
+                    hold,
+                );
+                self.request.iter_mut().for_each(|v| *v = 0.0);
+            }
+        }
+        self.unavoidable = now;
+        self.guards = guards;
+        Ok(all_hold)
+    }
+
+    /// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`.
+    fn limit_and_integrate(&mut self, dt: f64) {
+        self.step_t = self.t;
+        self.step_q.clone_from(&self.q);
+        let cap = if self.stopped {
+            self.scenario.dependability.max_deceleration
+        } else {
+            f64::INFINITY
+        };
+        limits::step_capped(&self.robot, &self.q, &self.request, &mut self.motion, dt, cap);
+        for (q, v) in self.q.iter_mut().zip(&self.motion.qdot) {
+            *q += v * dt;
+        }
+        self.robot.clamp_to_limits(&mut self.q);
+        self.t += dt;
+    }
+}
