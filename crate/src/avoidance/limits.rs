@@ -187,10 +187,17 @@ pub fn step_capped(
         *motion = JointMotion::rest(n);
     }
     let (lo, hi) = velocity_box(robot, q);
+    let caps = braking_caps(robot, q);
+    // A joint held back by the braking cap of a position limit brakes with
+    // its full acceleration, not its synchronised share.
+    let mut braking = vec![false; n];
     let want: Vec<f64> = (0..n)
         .map(|i| {
             let t = target.get(i).copied().unwrap_or(0.0);
-            if t.is_finite() { t.clamp(lo[i], hi[i]) } else { 0.0 }
+            let t = if t.is_finite() { t } else { 0.0 };
+            let (down, up) = caps[i];
+            braking[i] = t > up || t < -down || motion.qdot[i] > up || motion.qdot[i] < -down;
+            t.clamp(lo[i], hi[i])
         })
         .collect();
     let longest = robot
@@ -206,7 +213,9 @@ pub fn step_capped(
         let limit = j.max_acceleration.min(max_acceleration);
         let (v, a) = (motion.qdot[i], motion.qddot[i]);
         let e = want[i] - v;
-        let share = if longest > 0.0 {
+        let share = if braking[i] {
+            1.0
+        } else if longest > 0.0 {
             share_for(e, limit, j.max_jerk, longest)
         } else {
             1.0

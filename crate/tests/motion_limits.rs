@@ -1,0 +1,302 @@
+//! Physically admissible avoidance: every simulated motion within the
+//! robot's velocity, acceleration and jerk limits, no contact that begins
+//! while the arm moves, stops that settle, a travelling control point that
+//! does not move the arm by itself, and eq. 4's point task. Runs natively
+//! and, unchanged, under `wasm-pack test --node`.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use skeleton_avoidance::avoidance::Selection;
+use skeleton_avoidance::distance::{PrimitiveSpec, SphereSpec};
+use skeleton_avoidance::kinematics::{Robot, presets};
+use skeleton_avoidance::scenario::{
+    self, DhValues, EXAMPLE_NAMES, Motion, ObstacleSpec, RobotRef, Scenario, ShapeSpec, TaskSpec,
+    Trace,
+};
+use skeleton_avoidance::world::{World, simulate};
+
+/// What a trace asks of the joints, against the robot's own limits.
+#[derive(Debug, Default)]
+struct Audit {
+    /// Peak |q̇| / maxVelocity over joints and samples.
+    velocity: f64,
+    /// Peak |q̈| / maxAcceleration (second differences of the sampled q).
+    acceleration: f64,
+    /// Peak |q⃛| / maxJerk (third differences).
+    jerk: f64,
+    /// Smallest clearance (m).
+    clearance: f64,
+    /// A contact (clearance ≤ 0) that began while a joint turned faster
+    /// than 0.01 rad/s: the time it began.
+    moving_contact: Option<f64>,
+}
+
+fn audit(robot: &Robot, trace: &Trace) -> Audit {
+    let s = &trace.samples;
+    let mut out = Audit {
+        clearance: f64::INFINITY,
+        ..Audit::default()
+    };
+    let (mut prev_v, mut prev_a): (Option<Vec<f64>>, Option<Vec<f64>>) = (None, None);
+    let mut touching = false;
+    for k in 1..s.len() {
+        let h = s[k].t - s[k - 1].t;
+        let v: Vec<f64> = s[k].q.iter().zip(&s[k - 1].q).map(|(a, b)| (a - b) / h).collect();
+        let mut a = None;
+        for (i, j) in robot.joints.iter().enumerate() {
+            out.velocity = out.velocity.max(v[i].abs() / j.max_velocity);
+        }
+        if let Some(pv) = &prev_v {
+            let acc: Vec<f64> = v.iter().zip(pv).map(|(x, y)| (x - y) / h).collect();
+            for (i, j) in robot.joints.iter().enumerate() {
+                out.acceleration = out.acceleration.max(acc[i].abs() / j.max_acceleration);
+                if let Some(pa) = &prev_a {
+                    let jerk: f64 = (acc[i] - pa[i]) / h;
+                    out.jerk = out.jerk.max(jerk.abs() / j.max_jerk);
+                }
+            }
+            a = Some(acc);
+        }
+        if let Some(c) = s[k].min_clearance {
+            out.clearance = out.clearance.min(c);
+            let fastest = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            if c <= 0.0 && !touching && fastest > 0.01 && out.moving_contact.is_none() {
+                out.moving_contact = Some(s[k].t);
+            }
+            touching = c <= 0.0;
+        } else {
+            touching = false;
+        }
+        prev_v = Some(v);
+        prev_a = a;
+    }
+    out
+}
+
+fn check(name: &str, robot: &Robot, trace: &Trace) -> Audit {
+    let a = audit(robot, trace);
+    eprintln!(
+        "{name:<28} |q̇|/lim {:.3}  |q̈|/lim {:.3}  jerk/lim {:.3}  min clearance {:.4} m  contact while moving {:?}",
+        a.velocity, a.acceleration, a.jerk, a.clearance, a.moving_contact
+    );
+    assert!(a.velocity <= 1.0 + 1e-9, "{name}: velocity {}", a.velocity);
+    assert!(a.acceleration <= 1.0 + 1e-6, "{name}: acceleration {}", a.acceleration);
+    assert!(a.jerk <= 1.0 + 1e-6, "{name}: jerk {}", a.jerk);
+    assert!(a.moving_contact.is_none(), "{name}: contact began while moving at {:?}", a.moving_contact);
+    a
+}
+
+#[test]
+fn every_shipped_example_stays_within_the_robot_limits() {
+    for name in EXAMPLE_NAMES {
+        let mut s = scenario::example(name).unwrap();
+        s.sample_every = 1;
+        let robot = s.build_robot().unwrap();
+        check(name, &robot, &simulate(&s).unwrap());
+    }
+}
+
+fn sphere(id: &str, center: glam::DVec3, radius: f64, velocity: glam::DVec3) -> ObstacleSpec {
+    ObstacleSpec {
+        id: id.to_owned(),
+        shape: ShapeSpec::Primitive(PrimitiveSpec::Sphere(SphereSpec {
+            center: center.to_array(),
+            radius,
+        })),
+        motion: Some(Motion::Linear {
+            velocity: velocity.to_array(),
+        }),
+    }
+}
+
+/// A mid-range configuration inside every joint's limits.
+fn middle_q(robot: &Robot) -> Vec<f64> {
+    robot
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| {
+            let (lo, hi) = (j.min.max(-1.0), j.max.min(1.0));
+            lo + (hi - lo) * (0.35 + 0.1 * (i % 3) as f64)
+        })
+        .collect()
+}
+
+/// Spheres approaching the middle of every link of every preset, from
+/// 0.45 m away along the link's normal, at 0.1–0.5 m/s.
+#[test]
+fn obstacles_approaching_every_link_of_every_preset() {
+    for name in presets::NAMES {
+        let spec = presets::preset(name).unwrap();
+        let robot = Robot::from_spec(&spec).unwrap();
+        let q0 = middle_q(&robot);
+        let frames = robot.forward(&q0).unwrap();
+        let sk = skeleton_avoidance::skeleton::Skeleton::build(&robot, &frames);
+        for (k, seg) in sk.segments.iter().enumerate() {
+            let (a, b) = sk.endpoints(seg);
+            let mid = 0.5 * (a + b);
+            let along = (b - a).normalize_or(glam::DVec3::X);
+            let normal = along.any_orthonormal_vector();
+            let speed = 0.1 + 0.4 * (k % 5) as f64 / 4.0;
+            let start = mid + normal * 0.45;
+            let s = Scenario {
+                robot: RobotRef::Preset(name.to_owned()),
+                q0: Some(q0.clone()),
+                obstacles: vec![sphere("ball", start, 0.05, -normal * speed)],
+                task: TaskSpec::Hold.into(),
+                controller: Default::default(),
+                sensing: Default::default(),
+                dependability: Default::default(),
+                dt: 0.001,
+                duration: 2.0,
+                sample_every: 1,
+            };
+            check(&format!("{name} segment {k} @ {speed:.1} m/s"), &robot, &simulate(&s).unwrap());
+        }
+    }
+}
+
+/// With zero repulsion gain and a hold task, a control point travelling
+/// from link 1 to link 3 of planar3 does not move the arm; it arrives at
+/// the middle of link 3 after 0.3 s (paper §III-B, fig. 5).
+#[test]
+fn a_travelling_control_point_does_not_move_the_arm() {
+    let mut s = scenario::example("planar-transition").unwrap();
+    s.controller.repulsion_gain = 0.0;
+    s.controller.protective.enabled = false;
+    s.task = TaskSpec::Hold.into();
+    let q0 = s.q0.clone().unwrap();
+    let mut w = World::new(s).unwrap();
+    let mut arrived = None;
+    for k in 0..1500 {
+        w.step(0.001);
+        for e in w.events() {
+            if matches!(e.kind, skeleton_avoidance::dependability::EventKind::TransitionEnd { .. })
+                && arrived.is_none()
+            {
+                arrived = Some((k, e.t));
+            }
+        }
+        for (q, q0) in w.q().iter().zip(&q0) {
+            assert!((q - q0).abs() <= 1e-9, "the arm moved: {q} vs {q0}");
+        }
+    }
+    assert!(arrived.is_some(), "the control point travelled");
+}
+
+/// Eq. 4: a point sliding along link 2 of planar3 holds its Cartesian
+/// reference within 1 mm; without the moving-point terms it does not.
+#[test]
+fn a_sliding_point_holds_its_reference_only_with_the_moving_point_terms() {
+    let run = |terms: bool| {
+        let mut s = Scenario {
+            robot: RobotRef::Preset("planar3".to_owned()),
+            q0: Some(vec![0.3, 0.9, 0.6]),
+            obstacles: Vec::new(),
+            task: TaskSpec::Point {
+                link: 2,
+                from: DhValues { d: 0.0, a: 0.25 },
+                to: DhValues { d: 0.0, a: 0.1 },
+                start: 0.1,
+                duration: 1.0,
+                position: None,
+            }
+            .into(),
+            controller: Default::default(),
+            sensing: Default::default(),
+            dependability: Default::default(),
+            dt: 0.001,
+            duration: 1.5,
+            sample_every: 1,
+        };
+        s.controller.moving_point_terms = terms;
+        s.controller.task_gain = 20.0;
+        let robot = s.build_robot().unwrap();
+        let task = s.task.as_slice()[0].clone();
+        let trace = simulate(&s).unwrap();
+        check("sliding point", &robot, &trace);
+        let f0 = robot.forward(&trace.samples[0].q).unwrap();
+        let anchor = task.point_at(0.0).unwrap().0.position(&robot, &f0);
+        trace
+            .samples
+            .iter()
+            .map(|x| {
+                let f = robot.forward(&x.q).unwrap();
+                (task.point_at(x.t).unwrap().0.position(&robot, &f) - anchor).length()
+            })
+            .fold(0.0, f64::max)
+    };
+    let with = run(true);
+    let without = run(false);
+    eprintln!("largest error: {with:.2e} m with the moving-point terms, {without:.2e} m without");
+    assert!(with <= 1e-3, "{with}");
+    assert!(without > 5e-3, "{without}");
+}
+
+/// A chattering stop settles within the braking time (+10 %) and stays at
+/// rest until it resumes.
+#[test]
+fn a_stop_settles_within_the_braking_time_and_holds() {
+    let s = scenario::example("chattering").unwrap();
+    let mut w = World::new(s).unwrap();
+    let dt = 0.001;
+    let mut stop_at = None;
+    for _ in 0..20_000 {
+        let was = w.is_stopped();
+        let budget = skeleton_avoidance::avoidance::limits::braking_time(w.robot(), w.motion(), dt);
+        w.step(dt);
+        if w.is_stopped() && !was {
+            stop_at = Some((w.time(), budget));
+            break;
+        }
+    }
+    let (t0, budget) = stop_at.expect("the chattering example stops the arm");
+    let mut at_rest = None;
+    while w.is_stopped() {
+        w.step(dt);
+        let rest = w.motion().is_at_rest();
+        match (rest, at_rest) {
+            (true, None) => at_rest = Some(w.time()),
+            (false, Some(t)) => panic!("moved again at {} after resting at {t}", w.time()),
+            _ => {}
+        }
+    }
+    let settled = at_rest.expect("the arm came to rest during the stop") - t0;
+    eprintln!("stop settled in {settled:.4} s (braking time {budget:.4} s)");
+    assert!(settled <= budget * 1.1 + dt, "{settled} > {budget}");
+}
+
+/// Eq. 4's W: a heavier joint moves less for the same task.
+#[test]
+fn joint_weights_shift_motion_to_lighter_joints() {
+    let run = |w: Option<Vec<f64>>| {
+        let mut s = Scenario {
+            robot: RobotRef::Preset("planar3".to_owned()),
+            q0: Some(vec![0.3, 0.9, 0.6]),
+            obstacles: Vec::new(),
+            task: TaskSpec::Goal {
+                position: [0.5, 0.4, 0.0],
+                orientation: None,
+                chain: 0,
+            }
+            .into(),
+            controller: Default::default(),
+            sensing: Default::default(),
+            dependability: Default::default(),
+            dt: 0.001,
+            duration: 0.05,
+            sample_every: 1,
+        };
+        s.controller.joint_weights = w;
+        let t = simulate(&s).unwrap();
+        let last = &t.samples.last().unwrap().q;
+        (last[0] - 0.3).abs()
+    };
+    let plain = run(None);
+    let heavy = run(Some(vec![50.0, 1.0, 1.0]));
+    assert!(heavy < 0.5 * plain, "{heavy} vs {plain}");
+    let _ = Selection::Pairs;
+}
