@@ -242,3 +242,266 @@ fn a_new_target_during_a_transition_replans_without_a_jump() {
     assert_eq!(mp.point(), SkeletonPoint { segment: 1, t: 0.3 });
     assert!(mp.transition().is_none());
 }
+
+// ---------------------------------------------------------------------------
+// C² continuity (issue 9, part 5): quintic legs, re-plans from position, rate
+// and acceleration, retargets bounded by the route's own speed.
+// ---------------------------------------------------------------------------
+
+/// The DH values of the shorter manipulator that ends at `point`, as one
+/// vector `[d'_1, a'_1, d'_2, a'_2, …]` (m) for a serial chain: rows before
+/// the point's link complete, its own row `(d', a')`, rows after it zero.
+/// Also the same vector's rates (m/s) and accelerations (m/s²) from
+/// [`dh_motion`] (only the point's own row moves).
+fn dh_vector(
+    robot: &Robot,
+    frames: &skeleton_avoidance::kinematics::Frames,
+    skeleton: &Skeleton,
+    point: SkeletonPoint,
+    rate: f64,
+    accel: f64,
+) -> [Vec<f64>; 3] {
+    let (dh, m) = dh_motion(robot, frames, skeleton, point, rate, accel).unwrap();
+    let n = robot.dof();
+    let mut x = vec![0.0; 2 * n];
+    let mut v = vec![0.0; 2 * n];
+    let mut a = vec![0.0; 2 * n];
+    for k in 0..dh.link - 1 {
+        x[2 * k] = frames.d[k];
+        x[2 * k + 1] = robot.joints[k].a;
+    }
+    let own = dh.link - 1;
+    x[2 * own] = dh.d;
+    x[2 * own + 1] = dh.a;
+    v[2 * own] = m.d_rate;
+    v[2 * own + 1] = m.a_rate;
+    a[2 * own] = m.d_accel;
+    a[2 * own + 1] = m.a_accel;
+    [x, v, a]
+}
+
+/// Largest absolute change between consecutive entries of a sequence of
+/// vectors (the same index), and where it happens.
+fn largest_step(seq: &[Vec<f64>]) -> (f64, usize) {
+    let mut worst = (0.0, 0);
+    for (k, w) in seq.windows(2).enumerate() {
+        for (p, q) in w[0].iter().zip(&w[1]) {
+            if (q - p).abs() > worst.0 {
+                worst = ((q - p).abs(), k);
+            }
+        }
+    }
+    worst
+}
+
+/// Finite differences of sampled vectors: first (rate), second
+/// (acceleration) and third (jerk), each a sequence of vectors.
+fn differences(xs: &[Vec<f64>], dt: f64) -> [Vec<Vec<f64>>; 3] {
+    let diff = |s: &[Vec<f64>]| -> Vec<Vec<f64>> {
+        s.windows(2)
+            .map(|w| w[1].iter().zip(&w[0]).map(|(b, a)| (b - a) / dt).collect())
+            .collect()
+    };
+    let v = diff(xs);
+    let a = diff(&v);
+    let j = diff(&a);
+    [v, a, j]
+}
+
+/// The sampled DH vectors are C² with bounded jerk: the finite-difference
+/// acceleration never exceeds `accel_bound` (m/s²) and the finite-difference
+/// jerk never exceeds `jerk_bound` (m/s³); a step in the acceleration of
+/// size ΔA would show as a jerk of ΔA / dt. Returns the largest values.
+fn assert_c2(xs: &[Vec<f64>], dt: f64, accel_bound: f64, jerk_bound: f64, what: &str) -> [f64; 3] {
+    let [v, a, j] = differences(xs, dt);
+    let peak = |s: &[Vec<f64>]| {
+        s.iter()
+            .flat_map(|x| x.iter().map(|y| y.abs()))
+            .fold(0.0, f64::max)
+    };
+    let (pv, pa, pj) = (peak(&v), peak(&a), peak(&j));
+    let (_, at) = largest_step(&a);
+    assert!(
+        pa <= accel_bound,
+        "{what}: acceleration {pa} > {accel_bound}"
+    );
+    assert!(
+        pj <= jerk_bound,
+        "{what}: jerk {pj} > {jerk_bound} (an acceleration step near sample {at})"
+    );
+    [pv, pa, pj]
+}
+
+#[test]
+fn dh_values_are_c2_through_every_node_of_a_whole_route() {
+    // planar3 (fig. 5), a standard-DH 7-DOF arm and a modified-DH one.
+    for (name, q, from, to) in [
+        ("planar3", vec![0.4, 0.6, -0.5], (0, 0.5), (usize::MAX, 0.5)),
+        (
+            "lwr4",
+            vec![0.3, 0.5, -0.2, -1.0, 0.4, 0.6, 0.1],
+            (0, 0.5),
+            (usize::MAX, 0.5),
+        ),
+        (
+            "panda",
+            vec![0.1, -0.4, 0.2, -2.0, 0.3, 1.6, 0.5],
+            (1, 0.2),
+            (usize::MAX, 0.7),
+        ),
+        (
+            "panda",
+            vec![0.1, -0.4, 0.2, -2.0, 0.3, 1.6, 0.5],
+            (usize::MAX, 0.7),
+            (0, 0.3),
+        ),
+    ] {
+        let robot = robot(name);
+        let frames = robot.forward(&q).unwrap();
+        let skeleton = Skeleton::build(&robot, &frames);
+        let last = skeleton.segments.len() - 1;
+        let pick = |(s, t): (usize, f64)| SkeletonPoint {
+            segment: s.min(last),
+            t,
+        };
+        let time = 0.1;
+        let tr = Transition::plan(&skeleton, pick(from), 0.0, pick(to), time).unwrap();
+        let legs = tr.segments().len();
+        assert!(
+            legs >= 3,
+            "{name}: a route through several nodes ({legs} legs)"
+        );
+        assert!((tr.duration() - legs as f64 * time).abs() < 1e-12);
+        // The longest DH value change of a leg bounds everything: a
+        // rest-to-rest quintic of span L over T peaks at 15/8 L/T (rate),
+        // 10/√3 L/T² (acceleration) and 60 L/T³ (jerk).
+        let longest = skeleton
+            .segments
+            .iter()
+            .map(|s| {
+                let (a, b) = skeleton.endpoints(s);
+                (b - a).length()
+            })
+            .fold(0.0, f64::max);
+        let dt = 1e-5;
+        let steps = (tr.duration() / dt).round() as usize + 200;
+        let mut xs = Vec::with_capacity(steps + 1);
+        let mut analytic = Vec::with_capacity(steps + 1);
+        for k in 0..=steps {
+            let s = tr.sample_at(k as f64 * dt);
+            let [x, v, a] = dh_vector(&robot, &frames, &skeleton, s.point, s.rate, s.accel);
+            xs.push(x);
+            analytic.push((v, a));
+        }
+        let [pv, pa, pj] = assert_c2(
+            &xs,
+            dt,
+            10.0 / 3f64.sqrt() * longest / (time * time) * 1.001,
+            60.0 * longest / time.powi(3) * 1.001,
+            name,
+        );
+        assert!(
+            pv <= 15.0 / 8.0 * longest / time * 1.001,
+            "{name}: rate {pv}"
+        );
+        assert!(pa > 1.0 && pj > 10.0, "{name}: the point does move");
+        // The rates and accelerations that dh_motion reports (and that enter
+        // eq. 3 and second-order CLIK) are the derivatives of the values.
+        let [fv, fa, _] = differences(&xs, dt);
+        for k in 1..fa.len() {
+            for i in 0..xs[0].len() {
+                let mid_v = 0.5 * (analytic[k].0[i] + analytic[k + 1].0[i]);
+                assert!(
+                    (fv[k][i] - mid_v).abs() < 1e-3,
+                    "{name}: rate of DH value {i} at sample {k}: {} vs {mid_v}",
+                    fv[k][i]
+                );
+                assert!(
+                    (fa[k - 1][i] - analytic[k].1[i]).abs() < 0.05,
+                    "{name}: acceleration of DH value {i} at sample {k}: {} vs {}",
+                    fa[k - 1][i],
+                    analytic[k].1[i]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn paper_fig5_each_a_value_ramps_monotonically_and_stops_at_rest_at_its_node() {
+    let robot = robot("planar3");
+    let frames = robot.forward(&[0.4, 0.6, -0.5]).unwrap();
+    let skeleton = Skeleton::build(&robot, &frames);
+    let tr = Transition::plan(
+        &skeleton,
+        SkeletonPoint { segment: 0, t: 0.5 },
+        0.0,
+        SkeletonPoint { segment: 2, t: 0.5 },
+        0.1,
+    )
+    .unwrap();
+    let dt = 1e-4;
+    let mut prev: Option<[Vec<f64>; 3]> = None;
+    for k in 0..=3500 {
+        let time = k as f64 * dt;
+        let s = tr.sample_at(time);
+        let state = dh_vector(&robot, &frames, &skeleton, s.point, s.rate, s.accel);
+        let a = [state[0][1], state[0][3], state[0][5]];
+        // Which a(i) moves: a(1) in [0, 0.1], a(2) in [0.1, 0.2], a(3) in
+        // [0.2, 0.3]; each rises monotonically, never above its end value.
+        let (lo, hi) = ([0.2, 0.0, 0.0], [0.4, 0.3, 0.1]);
+        for i in 0..3 {
+            assert!(
+                a[i] >= lo[i] - 1e-15 && a[i] <= hi[i] + 1e-15,
+                "a({}) = {} at {time}",
+                i + 1,
+                a[i]
+            );
+            let rate = state[1][2 * i + 1];
+            assert!(
+                rate >= -1e-12,
+                "a({}) falls (rate {rate}) at t = {time}",
+                i + 1
+            );
+            let window = (0.1 * i as f64, 0.1 * (i + 1) as f64);
+            if time < window.0 - 1e-9 || time > window.1 + 1e-9 {
+                assert!(rate.abs() < 1e-12, "a({}) moves at t = {time}", i + 1);
+            }
+        }
+        if let Some(p) = &prev {
+            for i in 0..3 {
+                assert!(
+                    a[i] >= p[0][2 * i + 1] - 1e-15,
+                    "a({}) dips at {time}",
+                    i + 1
+                );
+            }
+        }
+        prev = Some(state);
+    }
+    // At each node (0.1 s, 0.2 s) and on arrival (0.3 s) the value that was
+    // changing is at rest: zero rate and zero acceleration, on both sides.
+    for (node, i, value) in [(0.1, 0, 0.4), (0.2, 1, 0.3), (0.3, 2, 0.1)] {
+        for time in [node - 1e-9, node, node + 1e-9] {
+            let s = tr.sample_at(time);
+            let [x, v, a] = dh_vector(&robot, &frames, &skeleton, s.point, s.rate, s.accel);
+            assert!(
+                (x[2 * i + 1] - value).abs() < 1e-12,
+                "a({}) at {time}",
+                i + 1
+            );
+            assert!(v.iter().all(|r| r.abs() < 1e-6), "rates {v:?} at {time}");
+            assert!(
+                a.iter().all(|r| r.abs() < 1e-3),
+                "accelerations {a:?} at {time}"
+            );
+        }
+    }
+    let end = tr.sample_at(0.3);
+    let [x, v, a] = dh_vector(&robot, &frames, &skeleton, end.point, end.rate, end.accel);
+    assert_eq!([x[1], x[3], x[5]], [0.4, 0.3, 0.1], "arrives after 0.3 s");
+    assert!(
+        v.iter().chain(&a).all(|r| r.abs() < 1e-9),
+        "at rest on arrival"
+    );
+}
