@@ -505,3 +505,231 @@ fn paper_fig5_each_a_value_ramps_monotonically_and_stops_at_rest_at_its_node() {
         "at rest on arrival"
     );
 }
+
+/// Nominal peaks of a rest-to-rest quintic leg of length `l` (m) over `time`
+/// (s): rate, acceleration, jerk.
+fn nominal(l: f64, time: f64) -> [f64; 3] {
+    [
+        15.0 / 8.0 * l / time,
+        10.0 / 3f64.sqrt() * l / (time * time),
+        60.0 * l / time.powi(3),
+    ]
+}
+
+#[test]
+fn a_retarget_on_the_last_leg_moves_the_point_no_faster_than_its_route_allows() {
+    let robot = robot("planar3");
+    let frames = robot.forward(&[0.4, 0.6, -0.5]).unwrap();
+    let skeleton = Skeleton::build(&robot, &frames);
+    let time = 0.1;
+    let planned_end = 0.95;
+    let mut tr = Transition::plan(
+        &skeleton,
+        SkeletonPoint { segment: 0, t: 0.5 },
+        0.0,
+        SkeletonPoint {
+            segment: 2,
+            t: planned_end,
+        },
+        time,
+    )
+    .unwrap();
+    // Almost arrived: 0.29 s of 0.3 s, on the last leg (link 3, 0.2 m).
+    let dt = 1e-3;
+    for _ in 0..290 {
+        tr.advance(dt);
+    }
+    let before = tr.sample();
+    assert_eq!(before.point.segment, 2);
+    // The selected point jumps back along link 3 by 0.18 m (the old cubic
+    // moved the end of its leg there in one step).
+    let new_end = 0.05;
+    tr.retarget(new_end);
+    let after = tr.sample();
+    assert_eq!(after.point, before.point, "no jump in position");
+    assert!((after.rate - before.rate).abs() < 1e-9, "no jump in rate");
+    assert!(
+        (after.accel - before.accel).abs() < 1e-6,
+        "no jump in acceleration"
+    );
+    assert!(tr.remaining() > 0.01, "the leg is lengthened, not squeezed");
+    assert_eq!(tr.target().t, new_end);
+    // The documented bound: the nominal peak rate of a rest-to-rest leg of
+    // length ℓ = max(planned span, distance to the new end) over the time
+    // per value, or the current rate if higher.
+    let link3 = 0.2;
+    let span = planned_end.max((new_end - before.point.t).abs());
+    let cap = (15.0 / 8.0 * span / time).max(before.rate.abs()) * link3;
+    let mut prev = before.point.position(&skeleton);
+    let mut worst: f64 = 0.0;
+    while !tr.is_finished() {
+        tr.advance(dt);
+        let s = tr.sample();
+        assert_eq!(s.point.segment, 2, "stays on its segment");
+        let p = s.point.position(&skeleton);
+        let step = (p - prev).length();
+        assert!(
+            step <= cap * dt * (1.0 + 1e-9),
+            "moves {step} m in one step of {dt} s (bound {})",
+            cap * dt
+        );
+        worst = worst.max(step);
+        prev = p;
+    }
+    assert!(worst > 0.5 * cap * dt, "the point does travel ({worst})");
+    let end = tr.sample();
+    assert_eq!(
+        end.point,
+        SkeletonPoint {
+            segment: 2,
+            t: new_end
+        }
+    );
+    assert!(end.rate == 0.0 && end.accel == 0.0);
+    // Per step of 1 ms, at most cap · dt ≈ 3.6 mm, never the 0.18 m jump.
+    assert!(cap * dt < 0.004);
+}
+
+#[test]
+fn dh_values_stay_c2_across_a_retarget_and_a_drifting_target() {
+    let robot = robot("planar3");
+    let frames = robot.forward(&[0.4, 0.6, -0.5]).unwrap();
+    let skeleton = Skeleton::build(&robot, &frames);
+    let time = 0.1;
+    let longest = 0.4;
+    let [_, accel_bound, jerk_bound] = nominal(longest, time);
+    // One retarget on the last leg, sampled finely around it.
+    let mut tr = Transition::plan(
+        &skeleton,
+        SkeletonPoint { segment: 0, t: 0.5 },
+        0.0,
+        SkeletonPoint { segment: 2, t: 0.9 },
+        time,
+    )
+    .unwrap();
+    let dt = 1e-5;
+    let mut xs = Vec::new();
+    let mut k = 0;
+    while !tr.is_finished() || k < 10 {
+        if k == 25_000 {
+            tr.retarget(0.2);
+        }
+        let s = tr.sample();
+        xs.push(dh_vector(&robot, &frames, &skeleton, s.point, s.rate, s.accel)[0].clone());
+        tr.advance(dt);
+        k += 1;
+    }
+    let peaks = assert_c2(&xs, dt, accel_bound, 2.0 * jerk_bound, "one retarget");
+    eprintln!("one retarget: peaks {peaks:?}, duration {}", tr.duration());
+    // A selected point drifting back and forth along link 3 during the whole
+    // transition: the last leg is re-shaped at every step.
+    let settings = TransitionSettings {
+        time_per_value: time,
+        ..TransitionSettings::default()
+    };
+    let mut mp = MovingPoint::new(SkeletonPoint { segment: 0, t: 0.5 });
+    let mut events = Vec::new();
+    let dt = 1e-4;
+    let mut xs = Vec::new();
+    for k in 0..6000 {
+        let clock = k as f64 * dt;
+        let selected = SkeletonPoint {
+            segment: 2,
+            t: 0.5 + 0.3 * (std::f64::consts::TAU * 2.0 * clock).sin(),
+        };
+        mp.update(&skeleton, selected, dt, &settings, &mut events)
+            .unwrap();
+        if mp.transition().is_none() {
+            break;
+        }
+        let [x, _, _] = dh_vector(
+            &robot,
+            &frames,
+            &skeleton,
+            mp.point(),
+            mp.rate(),
+            mp.accel(),
+        );
+        xs.push(x);
+    }
+    assert!(
+        xs.len() > 3000,
+        "the transition runs while the target drifts"
+    );
+    let peaks = assert_c2(&xs, dt, accel_bound, 2.0 * jerk_bound, "drifting target");
+    eprintln!("drifting target: peaks {peaks:?}, {} steps", xs.len());
+}
+
+#[test]
+fn a_replan_mid_leg_continues_position_rate_and_acceleration() {
+    let robot = robot("planar3");
+    let frames = robot.forward(&[0.4, 0.6, -0.5]).unwrap();
+    let skeleton = Skeleton::build(&robot, &frames);
+    let time = 0.1;
+    let [_, accel_bound, jerk_bound] = nominal(0.4, time);
+    let settings = TransitionSettings {
+        time_per_value: time,
+        ..TransitionSettings::default()
+    };
+    for (switch_at, back) in [(1_500, 0.3), (1_250, 0.9), (1_800, 0.1), (2_300, 0.3)] {
+        let mut mp = MovingPoint::new(SkeletonPoint { segment: 0, t: 0.5 });
+        let mut events = Vec::new();
+        let dt = 1e-4;
+        let mut xs = Vec::new();
+        let mut states = Vec::new();
+        for k in 0..8_000 {
+            // Towards the middle of link 3, then, mid-way, back to link 1.
+            let selected = if k < switch_at {
+                SkeletonPoint { segment: 2, t: 0.5 }
+            } else {
+                SkeletonPoint {
+                    segment: 0,
+                    t: back,
+                }
+            };
+            mp.update(&skeleton, selected, dt, &settings, &mut events)
+                .unwrap();
+            if k > switch_at && mp.transition().is_none() {
+                break;
+            }
+            let s = dh_vector(
+                &robot,
+                &frames,
+                &skeleton,
+                mp.point(),
+                mp.rate(),
+                mp.accel(),
+            );
+            xs.push(s[0].clone());
+            states.push(s);
+        }
+        assert!(
+            events
+                .iter()
+                .any(|e| matches!(e, PointEvent::TransitionStart { replan: true, .. })),
+            "re-planned at step {switch_at}"
+        );
+        let what = format!("re-plan at step {switch_at}");
+        let peaks = assert_c2(&xs, dt, 2.0 * accel_bound, 4.0 * jerk_bound, &what);
+        eprintln!("{what}: peaks {peaks:?}");
+        // The analytic acceleration of the DH values, as reported to eq. 3
+        // and second-order CLIK, is continuous across the re-plan.
+        let k = switch_at;
+        let (pre, post) = (&states[k - 1], &states[k]);
+        for i in 0..pre[2].len() {
+            assert!(
+                (post[2][i] - pre[2][i]).abs() <= 4.0 * jerk_bound * dt,
+                "{what}: acceleration of DH value {i} jumps from {} to {}",
+                pre[2][i],
+                post[2][i]
+            );
+        }
+        assert_eq!(
+            mp.point(),
+            SkeletonPoint {
+                segment: 0,
+                t: back
+            }
+        );
+    }
+}
