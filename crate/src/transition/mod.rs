@@ -77,6 +77,15 @@
 //! exceeds them least is used; should none stay on the segment, which the
 //! legs themselves never lead to, the leg starts at rest.)
 //!
+//! [`MovingPoint`] applies the rule so that a selection that keeps drifting
+//! (an obstacle moving along the link) cannot hold the point in a transition
+//! forever: it first tries [`Transition::retarget_on_time`] (the leg re-shaped
+//! over exactly the time it has left, within the same caps); only when that
+//! fails *and* the selection is farther than the jump threshold from the
+//! transition's target does it lengthen the leg ([`Transition::retarget`]).
+//! A smaller drift left over at arrival is then followed directly, like any
+//! move under the threshold.
+//!
 //! [`MovingPoint`] is the per-control-point state machine that decides between
 //! following the selected point directly and starting (or re-planning) a
 //! transition; [`dh_motion`] turns a point on the skeleton, with its rate and

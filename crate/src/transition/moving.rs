@@ -73,9 +73,16 @@ impl MovingPoint {
     /// A move of at most `jump_threshold` along the skeleton is followed
     /// directly (the rate is the finite difference); a longer one starts a
     /// transition. During a transition, a selection that drifts along the
-    /// target's segment moves the end of the last leg; one on another
+    /// target's segment moves the end of the last leg
+    /// ([`Transition::retarget_on_time`]) as long as the arrival time can be
+    /// kept within the retarget caps; when it cannot, a drift of more than
+    /// the threshold from the transition's target lengthens the last leg
+    /// ([`Transition::retarget`]), and a smaller one is left to direct
+    /// following after arrival (so a selection that keeps drifting cannot
+    /// hold the point in a transition forever). A selection on another
     /// segment, farther than the threshold from the target, re-plans from
-    /// the current point and rate.
+    /// the current point, rate and acceleration
+    /// ([`Transition::plan_moving`]).
     ///
     /// # Errors
     /// `transitionTime: must be > 0`, or segments that are not connected.
@@ -98,7 +105,14 @@ impl MovingPoint {
         self.selected = selected;
         let replan = match &mut self.transition {
             Some(tr) if tr.target().segment == selected.segment => {
-                tr.retarget(selected.t);
+                // Keep the arrival time when the drift allows it; a drift
+                // beyond the jump threshold lengthens the last leg instead;
+                // a smaller one left over at arrival is followed directly.
+                if !tr.retarget_on_time(selected.t)
+                    && route_length(skeleton, tr.target(), selected) > jump
+                {
+                    tr.retarget(selected.t);
+                }
                 false
             }
             Some(tr) => route_length(skeleton, tr.target(), selected) > jump,

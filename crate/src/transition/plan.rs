@@ -253,29 +253,55 @@ impl Transition {
     /// the nominal peaks of a rest-to-rest leg of length
     /// `max(planned span, |t − current t|)` over the time per value (or
     /// within the current |rate| and |acceleration| if higher). So the
-    /// point never moves faster than its own route's legs allow. A
-    /// non-finite `t` is ignored.
+    /// point never moves faster than its own route's legs allow; the
+    /// arrival may come later. A non-finite `t` is ignored.
     pub fn retarget(&mut self, t: f64) {
+        self.reshape_last(t, true);
+    }
+
+    /// [`Transition::retarget`] only if the arrival time can be kept: the
+    /// last leg re-shaped over exactly the time it has left (at least 1/16
+    /// of the time per value) stays on its segment and within the same
+    /// caps. Returns whether the end moved (also `true` when `t` is already
+    /// the end); on `false` nothing changed.
+    pub fn retarget_on_time(&mut self, t: f64) -> bool {
+        self.reshape_last(t, false)
+    }
+
+    /// The retarget rule (module docs); `lengthen` allows a later arrival.
+    fn reshape_last(&mut self, t: f64, lengthen: bool) -> bool {
         if !t.is_finite() {
-            return;
+            return false;
         }
         let t = t.clamp(0.0, 1.0);
         let (elapsed, per_value) = (self.elapsed, self.time_per_value);
         let Some(last) = self.legs.last_mut() else {
-            return;
+            return false;
         };
         if (t - last.end).abs() <= RETARGET_EPSILON {
-            return;
+            return true;
         }
         let begin = elapsed.max(last.start);
         let now = last.state(begin);
         let length = last.span.max((t - now.t).abs());
         let caps = Caps::retarget(length, per_value, now);
-        let t_min = (last.finish() - begin).max(per_value * MIN_RESHAPE_FRACTION);
-        last.shape = quintic::reshape(now, t, t_min, caps);
+        let floor = per_value * MIN_RESHAPE_FRACTION;
+        let left = last.finish() - begin;
+        let shape = if lengthen {
+            quintic::reshape(now, t, left.max(floor), caps)
+        } else if left >= floor {
+            match quintic::reshape_on_time(now, t, left, caps) {
+                Some(q) => q,
+                None => return false,
+            }
+        } else {
+            return false;
+        };
+        last.shape = shape;
         last.start = begin;
         last.end = t;
         self.target.t = t;
+        true
     }
 
     /// Moves time on by `dt` seconds.

@@ -195,7 +195,7 @@ impl Caps {
 }
 
 /// Number of shorter durations tried for the first leg of a re-plan.
-const REPLAN_SHORTER: i32 = 12;
+const REPLAN_SHORTER: usize = 12;
 
 /// Ratio between consecutive durations tried.
 const DURATION_STEP: f64 = 1.2;
@@ -208,11 +208,15 @@ const DURATION_STEP: f64 = 1.2;
 /// When none does (only a point already at a segment's end and moving off
 /// it), the leg starts at rest.
 pub(crate) fn first_leg(start: State, end: f64, time_per_value: f64) -> Quintic {
-    for k in 0..=REPLAN_SHORTER {
-        let q = Quintic::to_rest(start, end, time_per_value / DURATION_STEP.powi(k));
+    // Repeated division (not `powi`) keeps the durations bit-identical
+    // natively and in wasm.
+    let mut duration = time_per_value;
+    for _ in 0..=REPLAN_SHORTER {
+        let q = Quintic::to_rest(start, end, duration);
         if q.stays_on_segment() {
             return q;
         }
+        duration /= DURATION_STEP;
     }
     let rest = State {
         t: start.t.clamp(0.0, 1.0),
@@ -221,9 +225,16 @@ pub(crate) fn first_leg(start: State, end: f64, time_per_value: f64) -> Quintic 
     Quintic::to_rest(rest, end, time_per_value)
 }
 
+/// The re-shaped last leg over exactly `duration`, from `now` to rest at
+/// `end`, if it stays on its segment and within `caps`.
+pub(crate) fn reshape_on_time(now: State, end: f64, duration: f64, caps: Caps) -> Option<Quintic> {
+    let q = Quintic::to_rest(now, end, duration);
+    (q.stays_on_segment() && q.excess(caps) <= 1.0 + 1e-9).then_some(q)
+}
+
 /// Number of longer (and then shorter) durations tried for a retarget.
-const RETARGET_LONGER: i32 = 30;
-const RETARGET_SHORTER: i32 = 12;
+const RETARGET_LONGER: usize = 30;
+const RETARGET_SHORTER: usize = 12;
 
 /// The re-shaped last leg of a retarget, from `now` to rest at `end`: the
 /// shortest duration among `t_min · 1.2^k` (`k = 0 ‥ 30`) whose peaks stay
@@ -232,8 +243,12 @@ const RETARGET_SHORTER: i32 = 12;
 /// candidate on the segment that exceeds the caps least; and as a last
 /// resort (no candidate stays on the segment) a leg from rest.
 pub(crate) fn reshape(now: State, end: f64, t_min: f64, caps: Caps) -> Quintic {
-    let longer = (0..=RETARGET_LONGER).map(|k| t_min * DURATION_STEP.powi(k));
-    let shorter = (1..=RETARGET_SHORTER).map(|k| t_min / DURATION_STEP.powi(k));
+    // Repeated products (not `powi`) keep the durations bit-identical
+    // natively and in wasm.
+    let longer =
+        std::iter::successors(Some(t_min), |d| Some(d * DURATION_STEP)).take(RETARGET_LONGER + 1);
+    let shorter = std::iter::successors(Some(t_min / DURATION_STEP), |d| Some(d / DURATION_STEP))
+        .take(RETARGET_SHORTER);
     let mut best: Option<(f64, Quintic)> = None;
     for duration in longer.chain(shorter) {
         let q = Quintic::to_rest(now, end, duration);
