@@ -277,6 +277,9 @@ pub(crate) fn reshape(now: State, end: f64, t_min: f64, caps: Caps) -> Quintic {
 
 #[cfg(test)]
 mod tests {
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
     use super::*;
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
