@@ -89,8 +89,8 @@ fn paper_fig5_planar_transition_changes_a1_a2_a3_in_sequence_and_arrives_after_0
             );
         }
         if let Some(pv) = prev_v {
-            // A cubic leg of length L over T has |p̈| ≤ 6 L / T² = 180 m/s²
-            // for L = 0.3 m: 0.18 m/s per millisecond at most.
+            // A quintic leg of length L over T has |p̈| ≤ 10/√3 L / T²
+            // ≈ 173 m/s² for L = 0.3 m: 0.18 m/s per millisecond at most.
             assert!((v - pv).length() < 0.2, "velocity jumps at t = {time}");
         }
         prev_p = Some(p);
@@ -221,7 +221,7 @@ fn a_new_target_during_a_transition_replans_without_a_jump() {
             (p - prev).length()
         );
         if k > 0 {
-            // Velocity changes at most by the cubic's acceleration × dt.
+            // Velocity changes at most by the legs' acceleration × dt.
             assert!(
                 (v - prev_rate_v).length() < 0.5,
                 "velocity jump at step {k}"
