@@ -96,8 +96,7 @@ fn jacobians_match_finite_differences_on_every_preset() {
                         let mut qq = q.clone();
                         qq[k] += dq;
                         let f = base.forward(&qq).unwrap();
-                        cp.at_same_fraction(&base, &frames, &f)
-                            .position(&base, &f)
+                        cp.at_same_fraction(&base, &frames, &f).position(&base, &f)
                     };
                     let fd = (pos(H) - pos(-H)) / (2.0 * H);
                     assert!(

@@ -110,7 +110,11 @@ fn urdf_path(urdf: &urdf_rs::Robot, base: &str, tip: &str) -> Vec<usize> {
 /// The tip frame and every movable joint's origin, for joint values `q` in
 /// the order of `names`.
 fn urdf_fk(urdf: &urdf_rs::Robot, path: &[usize], names: &[String], q: &[f64]) -> (Tf, Vec<V3>) {
-    let value: HashMap<&str, f64> = names.iter().map(String::as_str).zip(q.iter().copied()).collect();
+    let value: HashMap<&str, f64> = names
+        .iter()
+        .map(String::as_str)
+        .zip(q.iter().copied())
+        .collect();
     let mut t = Tf {
         r: rot_axis(0, 0.0),
         p: [0.0; 3],
@@ -179,7 +183,12 @@ fn check(xml: &str, options: &UrdfOptions, seed: u64, cover: bool) -> (usize, f6
     assert_eq!(names.len(), robot.dof());
     let base = options.base.clone().unwrap_or_else(|| {
         let children: Vec<&str> = urdf.joints.iter().map(|j| j.child.link.as_str()).collect();
-        urdf.links.iter().find(|l| !children.contains(&l.name.as_str())).unwrap().name.clone()
+        urdf.links
+            .iter()
+            .find(|l| !children.contains(&l.name.as_str()))
+            .unwrap()
+            .name
+            .clone()
     });
     let tip = options.tip.clone().unwrap();
     let path = urdf_path(&urdf, &base, &tip);
@@ -192,7 +201,10 @@ fn check(xml: &str, options: &UrdfOptions, seed: u64, cover: bool) -> (usize, f6
         let (t, origins) = urdf_fk(&urdf, &path, &names, &q);
         let dp = (ee.translation - glam::DVec3::from_array(t.p)).length();
         let mut fro = 0.0;
-        for (c, col) in [ee.matrix3.x_axis, ee.matrix3.y_axis, ee.matrix3.z_axis].iter().enumerate() {
+        for (c, col) in [ee.matrix3.x_axis, ee.matrix3.y_axis, ee.matrix3.z_axis]
+            .iter()
+            .enumerate()
+        {
             for r in 0..3 {
                 fro += (col[r] - t.r[r][c]).powi(2);
             }
@@ -210,7 +222,10 @@ fn check(xml: &str, options: &UrdfOptions, seed: u64, cover: bool) -> (usize, f6
                 .iter()
                 .map(|s| distance_to_segment(p, skeleton.nodes[s.from], skeleton.nodes[s.to]))
                 .fold(f64::INFINITY, f64::min);
-            assert!(gap <= 1e-9, "{tip}: origin {k} is {gap} m off the skeleton at q = {q:?}");
+            assert!(
+                gap <= 1e-9,
+                "{tip}: origin {k} is {gap} m off the skeleton at q = {q:?}"
+            );
         }
     }
     assert!(worst_p <= TOL, "{tip}: position error {worst_p} m");
@@ -248,7 +263,12 @@ fn iiwa_matches_the_urdf() {
 
 #[test]
 fn pr2_arm_with_the_prismatic_torso_matches_the_urdf() {
-    let (dof, p, r) = check(PR2, &opts(Some("base_footprint"), "r_gripper_palm_link"), 4, true);
+    let (dof, p, r) = check(
+        PR2,
+        &opts(Some("base_footprint"), "r_gripper_palm_link"),
+        4,
+        true,
+    );
     assert_eq!(dof, 8);
     eprintln!("pr2.urdf (torso + right arm): {dof} joints, worst {p:.2e} m, {r:.2e} rad");
     let spec = robot_from_urdf(PR2, &opts(Some("base_footprint"), "r_gripper_palm_link")).unwrap();
@@ -258,7 +278,12 @@ fn pr2_arm_with_the_prismatic_torso_matches_the_urdf() {
 
 #[test]
 fn pr2_sub_chain_from_an_inner_base() {
-    check(PR2, &opts(Some("torso_lift_link"), "l_wrist_roll_link"), 5, true);
+    check(
+        PR2,
+        &opts(Some("torso_lift_link"), "l_wrist_roll_link"),
+        5,
+        true,
+    );
 }
 
 // ---- random chains: axes in any direction, parallel, coincident and
@@ -297,13 +322,22 @@ fn random_chain(rng: &mut Rng) -> String {
         for _ in 0..(rng.uniform() * 2.5) as usize {
             xml += &format!(
                 "<link name=\"l{}\"/><joint name=\"f{}\" type=\"fixed\"><parent link=\"l{link}\"/><child link=\"l{}\"/>{}</joint>",
-                link + 1, link + 1, link + 1, random_origin(rng)
+                link + 1,
+                link + 1,
+                link + 1,
+                random_origin(rng)
             );
             link += 1;
         }
         let kind = pick(rng, &["revolute", "revolute", "continuous", "prismatic"]);
         let axis = if rng.uniform() < 0.5 {
-            pick(rng, &["1 0 0", "0 1 0", "0 0 1", "-1 0 0", "0 -1 0", "0 0 -1", "0 0 2"]).to_owned()
+            pick(
+                rng,
+                &[
+                    "1 0 0", "0 1 0", "0 0 1", "-1 0 0", "0 -1 0", "0 0 -1", "0 0 2",
+                ],
+            )
+            .to_owned()
         } else {
             let a = rng.unit3();
             format!("{} {} {}", a.x, a.y, a.z)
@@ -315,7 +349,9 @@ fn random_chain(rng: &mut Rng) -> String {
         };
         xml += &format!(
             "<link name=\"l{}\"/><joint name=\"j{k}\" type=\"{kind}\"><parent link=\"l{link}\"/><child link=\"l{}\"/>{}<axis xyz=\"{axis}\"/>{limit}</joint>",
-            link + 1, link + 1, random_origin(rng)
+            link + 1,
+            link + 1,
+            random_origin(rng)
         );
         link += 1;
     }

@@ -112,12 +112,48 @@ fn panda() -> RobotSpec {
     let l = 2.8973;
     let rows = [
         (row(0.0, 0.0, 0.333, 0.075), [-l, l], 2.175, 15.0, 87.0),
-        (row(0.0, -FRAC_PI_2, 0.0, 0.075), [-1.7628, 1.7628], 2.175, 7.5, 87.0),
-        (row(0.0, FRAC_PI_2, 0.316, 0.065), [-l, l], 2.175, 10.0, 87.0),
-        (row(0.0825, FRAC_PI_2, 0.0, 0.065), [-3.0718, -0.0698], 2.175, 12.5, 87.0),
-        (row(-0.0825, -FRAC_PI_2, 0.384, 0.06), [-l, l], 2.61, 15.0, 12.0),
-        (row(0.0, FRAC_PI_2, 0.0, 0.06), [-0.0175, 3.7525], 2.61, 20.0, 12.0),
-        (row(0.088, FRAC_PI_2, 0.107, 0.05), [-l, l], 2.61, 20.0, 12.0),
+        (
+            row(0.0, -FRAC_PI_2, 0.0, 0.075),
+            [-1.7628, 1.7628],
+            2.175,
+            7.5,
+            87.0,
+        ),
+        (
+            row(0.0, FRAC_PI_2, 0.316, 0.065),
+            [-l, l],
+            2.175,
+            10.0,
+            87.0,
+        ),
+        (
+            row(0.0825, FRAC_PI_2, 0.0, 0.065),
+            [-3.0718, -0.0698],
+            2.175,
+            12.5,
+            87.0,
+        ),
+        (
+            row(-0.0825, -FRAC_PI_2, 0.384, 0.06),
+            [-l, l],
+            2.61,
+            15.0,
+            12.0,
+        ),
+        (
+            row(0.0, FRAC_PI_2, 0.0, 0.06),
+            [-0.0175, 3.7525],
+            2.61,
+            20.0,
+            12.0,
+        ),
+        (
+            row(0.088, FRAC_PI_2, 0.107, 0.05),
+            [-l, l],
+            2.61,
+            20.0,
+            12.0,
+        ),
     ];
     let joints = rows
         .into_iter()
@@ -155,8 +191,17 @@ fn planar3() -> RobotSpec {
 
 fn dual_arm() -> RobotSpec {
     let h = std::f64::consts::FRAC_1_SQRT_2;
-    let column = limited(row(0.0, 0.0, 0.9, 0.14), [-deg(170.0), deg(170.0)], deg(90.0), 5.0);
-    let mut torso = spec("dual-arm", Convention::Standard, vec![torque(column, 300.0)]);
+    let column = limited(
+        row(0.0, 0.0, 0.9, 0.14),
+        [-deg(170.0), deg(170.0)],
+        deg(90.0),
+        5.0,
+    );
+    let mut torso = spec(
+        "dual-arm",
+        Convention::Standard,
+        vec![torque(column, 300.0)],
+    );
     torso.branches = vec![
         BranchSpec {
             name: Some("left".to_owned()),
@@ -182,11 +227,33 @@ fn stanford() -> RobotSpec {
     slide.kind = JointType::Prismatic;
     slide.max_jerk = Some(1000.0);
     let joints = vec![
-        torque(limited(row(0.0, -FRAC_PI_2, 0.412, 0.09), full, 1.5, 8.0), 200.0),
-        torque(limited(row(0.0, FRAC_PI_2, 0.154, 0.08), [-deg(100.0), deg(100.0)], 1.5, 8.0), 200.0),
+        torque(
+            limited(row(0.0, -FRAC_PI_2, 0.412, 0.09), full, 1.5, 8.0),
+            200.0,
+        ),
+        torque(
+            limited(
+                row(0.0, FRAC_PI_2, 0.154, 0.08),
+                [-deg(100.0), deg(100.0)],
+                1.5,
+                8.0,
+            ),
+            200.0,
+        ),
         torque(slide, 400.0),
-        torque(limited(row(0.0, -FRAC_PI_2, 0.0, 0.045), full, 3.0, 15.0), 20.0),
-        torque(limited(row(0.0, FRAC_PI_2, 0.0, 0.045), [-deg(100.0), deg(100.0)], 3.0, 15.0), 20.0),
+        torque(
+            limited(row(0.0, -FRAC_PI_2, 0.0, 0.045), full, 3.0, 15.0),
+            20.0,
+        ),
+        torque(
+            limited(
+                row(0.0, FRAC_PI_2, 0.0, 0.045),
+                [-deg(100.0), deg(100.0)],
+                3.0,
+                15.0,
+            ),
+            20.0,
+        ),
         torque(limited(row(0.0, 0.0, 0.263, 0.035), full, 3.0, 15.0), 20.0),
     ];
     spec("stanford", Convention::Standard, joints)

@@ -94,7 +94,11 @@ fn next_frame(prev: &Frame, joint_point: DVec3, next: &AxisLine) -> (Frame, DVec
     if cross.length() <= PARALLEL_TOLERANCE {
         // Parallel (or coincident): the normal through this joint's origin;
         // the next axis is made exactly parallel.
-        let z1 = if z0.dot(next.direction) >= 0.0 { z0 } else { -z0 };
+        let z1 = if z0.dot(next.direction) >= 0.0 {
+            z0
+        } else {
+            -z0
+        };
         let n = foot(joint_point, prev.origin, z0);
         let o1 = foot(n, next.point, z1);
         let diff = o1 - n;
@@ -103,7 +107,14 @@ fn next_frame(prev: &Frame, joint_point: DVec3, next: &AxisLine) -> (Frame, DVec
         } else {
             prev.x
         };
-        return (Frame { origin: n + x * diff.dot(x), x, z: z1 }, n);
+        return (
+            Frame {
+                origin: n + x * diff.dot(x),
+                x,
+                z: z1,
+            },
+            n,
+        );
     }
     let z1 = next.direction;
     // Closest points of the two lines: prev.origin + s z0 and next.point + t z1.
@@ -233,6 +244,10 @@ mod tests {
         let c = dh_chain(&axes, &tip);
         assert!((c.rows[0].a - 0.4).abs() < 1e-15);
         assert!((c.rows[1].a - 0.3).abs() < 1e-15);
-        assert!(c.rows.iter().all(|r| r.alpha.abs() < 1e-15 && r.d.abs() < 1e-15));
+        assert!(
+            c.rows
+                .iter()
+                .all(|r| r.alpha.abs() < 1e-15 && r.d.abs() < 1e-15)
+        );
     }
 }

@@ -106,7 +106,9 @@ pub fn robot_from_urdf(xml: &str, options: &UrdfOptions) -> Result<RobotSpec, Fi
     if chain.axes.is_empty() {
         return Err(FieldError::new(
             "tip",
-            format!("no revolute, continuous or prismatic joint between base \"{base}\" and tip \"{tip}\""),
+            format!(
+                "no revolute, continuous or prismatic joint between base \"{base}\" and tip \"{tip}\""
+            ),
         ));
     }
     chain.into_spec(&urdf.name)
@@ -465,7 +467,9 @@ fn widen(row: &mut JointSpec, link: &urdf_rs::Link) -> Result<(), FieldError> {
         if !r.is_finite() || r < 0.0 {
             return Err(FieldError::new(
                 format!("link \"{}\"", link.name),
-                format!("collision[{k}] has a radius or size that is not a finite, non-negative number"),
+                format!(
+                    "collision[{k}] has a radius or size that is not a finite, non-negative number"
+                ),
             ));
         }
         let current = match row.radius {
