@@ -172,3 +172,30 @@ fn bad_input_names_the_element() {
         "joint \"j2\": origin.xyz[1] is not a finite number"
     );
 }
+
+#[test]
+fn damaged_documents_give_errors_not_panics() {
+    const UR5: &str = include_str!("data/urdf/ur5_robot.urdf");
+    let mut rng = skeleton_avoidance::rng::Rng::new(9);
+    let bytes: Vec<char> = UR5.chars().collect();
+    let junk = ['<', '>', '"', '/', '=', 'x', '0', '-', 'e', ' ', '.'];
+    for case in 0..150 {
+        let mut text = bytes.clone();
+        if case % 3 == 0 {
+            text.truncate((rng.uniform() * text.len() as f64) as usize);
+        } else {
+            for _ in 0..1 + case % 5 {
+                let at = (rng.uniform() * text.len() as f64) as usize % text.len();
+                text[at] = junk[(rng.uniform() * junk.len() as f64) as usize % junk.len()];
+            }
+        }
+        let text: String = text.into_iter().collect();
+        // Any outcome but a panic: a spec that validates, or an error naming a field.
+        match robot_from_urdf(&text, &UrdfOptions::default()) {
+            Ok(spec) => {
+                Robot::from_spec(&spec).unwrap();
+            }
+            Err(e) => assert!(!e.field.is_empty(), "{e}"),
+        }
+    }
+}
