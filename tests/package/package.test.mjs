@@ -56,10 +56,15 @@ world.advance(0.001, 10);
 const state: WorldState = world.state();
 world.free();
 
-// @ts-expect-error: a sphere has a radius, not a size (the types are not \`any\`).
-distance({ type: 'sphere', center: [0, 0, 0], size: 1 }, ball);
-// @ts-expect-error: the options name links.
-robotFromUrdf(xml, { end: 'tool' });
+// Type errors tsc must report (never called: they would throw at run time).
+export function misuses(): void {
+  // @ts-expect-error: a sphere has a radius, not a size (the types are not \`any\`).
+  distance({ type: 'sphere', center: [0, 0, 0], size: 1 }, ball);
+  // @ts-expect-error: the options name links.
+  robotFromUrdf(xml, { end: 'tool' });
+  // @ts-expect-error: a scenario needs dt and duration.
+  simulate({ robot, obstacles: [] });
+}
 
 console.log(JSON.stringify({
   names, tip, segments: sk.segments.length, d, samples: trace.samples.length,
