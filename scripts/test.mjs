@@ -7,6 +7,7 @@ import path from 'node:path';
 import { repo, run, seconds } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
+import { buildPackage } from './package.mjs';
 
 const crate = path.join(repo, 'crate');
 const testFiles = (dir) =>
@@ -30,6 +31,10 @@ const layers = [
   ['js-contract', 'the JS API in Node against crate/pkg-node', () => {
     if (buildWasm('node') !== 0) return 1;
     return run('node', ['--test', ...testFiles('tests/node')]);
+  }],
+  ['package', 'npm pack, install into a temp project, tsc, run in Node', () => {
+    if (!buildPackage()) return 1;
+    return run('node', ['--test', ...testFiles('tests/package')]);
   }],
   ['browser', 'the pages in headless Chromium (WebGPU and WebGL2)', () => {
     if (buildWasm('web') !== 0) return 1;

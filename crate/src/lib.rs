@@ -14,7 +14,7 @@
 //!
 //! | module | what it holds | paper |
 //! |---|---|---|
-//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, forward kinematics, IK | §II, §III |
+//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, URDF import, forward kinematics, IK | §II, §III |
 //! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
 //! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives | §III-A, eq. 2–4 |
 //! | [`transition`] | a control point travelling along the skeleton through the nodes, one cubic per DH value | §III-B, fig. 5 |

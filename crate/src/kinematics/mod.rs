@@ -17,6 +17,7 @@ mod frames;
 pub mod ik;
 pub mod presets;
 mod spec;
+pub mod urdf;
 
 use glam::{DAffine3, DQuat};
 
@@ -63,7 +64,8 @@ impl Robot {
     /// A [`FieldError`] naming the first bad field: an empty DH table
     /// (`joints: the DH table is empty`), a non-finite value
     /// (`joints[3].alpha: not a finite number`), a degenerate or non-unit base
-    /// rotation, a negative radius, a branch whose parent frame does not exist.
+    /// rotation, a negative radius, a branch whose parent frame does not exist,
+    /// `jointNames` of the wrong length or with an empty or repeated name.
     pub fn from_spec(spec: &RobotSpec) -> Result<Self, FieldError> {
         if spec.joints.is_empty() {
             return Err(FieldError::new("joints", "the DH table is empty"));
@@ -127,6 +129,9 @@ impl Robot {
                 last: joints.len(),
                 tool,
             });
+        }
+        if let Some(names) = &spec.joint_names {
+            check_joint_names(names, joints.len())?;
         }
         Ok(Self {
             name: spec.name.clone().unwrap_or_default(),
@@ -260,6 +265,29 @@ impl Robot {
             *v = v.clamp(j.min, j.max);
         }
     }
+}
+
+/// Checks the optional `jointNames` of a spec: one non-empty, unique name per
+/// row.
+fn check_joint_names(names: &[String], dof: usize) -> Result<(), FieldError> {
+    if names.len() != dof {
+        return Err(FieldError::new(
+            "jointNames",
+            format!("expected {dof} names (one per joint), got {}", names.len()),
+        ));
+    }
+    for (k, name) in names.iter().enumerate() {
+        if name.is_empty() {
+            return Err(FieldError::new(format!("jointNames[{k}]"), "empty name"));
+        }
+        if names[..k].contains(name) {
+            return Err(FieldError::new(
+                format!("jointNames[{k}]"),
+                format!("\"{name}\" appears twice"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Checks that `v` has `n` finite values.

@@ -104,6 +104,7 @@ fn spec(name: &str, convention: Convention, joints: Vec<JointSpec>) -> RobotSpec
         joints,
         tool: None,
         branches: Vec::new(),
+        joint_names: None,
     }
 }
 

@@ -155,6 +155,10 @@ pub struct RobotSpec {
     /// Further chains on the same base (arms of a torso).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub branches: Vec<BranchSpec>,
+    /// Names of the joints in the order of `q` (one per row, branches
+    /// included), e.g. the URDF joint names of an imported robot.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint_names: Option<Vec<String>>,
 }
 
 /// The motion limits of one joint (SI: rad or m, per s, s², s³; N·m or N).

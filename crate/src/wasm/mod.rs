@@ -9,6 +9,7 @@ use wasm_bindgen::prelude::*;
 
 mod convert;
 mod kinematics;
+mod urdf;
 mod world;
 
 /// Installs the panic hook (a last resort: nothing reachable from JS should panic).

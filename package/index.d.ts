@@ -1,0 +1,343 @@
+// Type declarations of the `skeleton-avoidance` npm package, written by hand
+// from docs/js-api.md and docs/scenarios.md (wasm-bindgen types plain objects
+// as `any`). SI units, radians, z up; quaternions [x, y, z, w]; matrices as
+// arrays of rows.
+
+export type Vec3 = [number, number, number];
+/** Unit quaternion `[x, y, z, w]`. */
+export type Quat = [number, number, number, number];
+/** A 4×4 homogeneous transform as rows. */
+export type Matrix4 = number[][];
+/** Joint values: a plain array or a `Float64Array`. */
+export type JointVector = number[] | Float64Array;
+
+// ---- robots ----
+
+export type PresetName = 'planar3' | 'lwr4' | 'panda' | 'ur5' | 'dual-arm' | (string & {});
+
+export interface Pose {
+  /** Translation (m); default `[0, 0, 0]`. */
+  position?: Vec3;
+  /** Unit quaternion `[x, y, z, w]`; default identity. */
+  rotation?: Quat;
+}
+
+/** One DH row. */
+export interface JointSpec {
+  /** Link length (m); `a_{i-1}` in the modified convention. */
+  a: number;
+  /** Link twist (rad). */
+  alpha: number;
+  /** Link offset (m); the offset added to a prismatic joint's value. */
+  d: number;
+  /** Joint angle (rad); the offset added to a revolute joint's value. */
+  theta: number;
+  type?: 'revolute' | 'prismatic';
+  /** Position limits (rad or m). */
+  min?: number;
+  max?: number;
+  /** rad/s or m/s, > 0. */
+  maxVelocity?: number;
+  /** rad/s² or m/s², > 0. */
+  maxAcceleration?: number;
+  /** rad/s³ or m/s³, > 0. */
+  maxJerk?: number;
+  /** N·m or N, > 0. */
+  maxTorque?: number;
+  /** Radius of the link's volume (m), or `[r0, r1]` tapered along each segment; default 0.05. */
+  radius?: number | [number, number];
+  /** Spine behind the joint (m, ≥ 0): counterbalances, motors. */
+  extension?: number;
+}
+
+export interface BranchSpec {
+  name?: string;
+  /** 1-based row whose frame carries the branch; 0 is the base. */
+  parent: number;
+  /** Rotation `[x, y, z, w]` from the parent frame to the branch's first row. */
+  mount?: Quat;
+  joints: JointSpec[];
+  tool?: Pose;
+}
+
+/** A robot described by its DH table. */
+export interface RobotSpec {
+  name?: string;
+  convention: 'standard' | 'modified';
+  /** Pose of frame 0 in the world. */
+  base?: Pose;
+  joints: JointSpec[];
+  /** Transform after the main chain's last row. */
+  tool?: Pose;
+  /** Further chains on the same base. */
+  branches?: BranchSpec[];
+  /** One unique name per joint, in the order of `q`. */
+  jointNames?: string[];
+}
+
+/** A spec, `{ preset }` or a preset name. */
+export type RobotInput = RobotSpec | { preset: PresetName } | PresetName;
+
+export interface UrdfOptions {
+  /** Link the chain ends at; default: the end of the longest movable chain. */
+  tip?: string;
+  /** Link the chain starts at (the world frame); default: the root link. */
+  base?: string;
+}
+
+export interface ForwardKinematics {
+  /** Origins of frames 0..n. */
+  origins: Vec3[];
+  frames: Matrix4[];
+  endEffector: Matrix4;
+  /** One per chain. */
+  endEffectors: Matrix4[];
+}
+
+export interface SkeletonSegment {
+  from: number;
+  to: number;
+  /** 1-based DH row. */
+  link: number;
+  part: 'd' | 'a' | 'extension';
+  radius: [number, number];
+}
+
+export interface SkeletonResult {
+  nodes: Vec3[];
+  segments: SkeletonSegment[];
+  frameNodes: number[];
+}
+
+/** A point of the shorter manipulator cut at `link` (1-based). */
+export interface DhPoint {
+  link: number;
+  d: number;
+  a: number;
+}
+
+export interface ControlPointRates {
+  qdot: JointVector;
+  aRate?: number;
+  dRate?: number;
+}
+
+export interface ControlPointResult {
+  position: Vec3;
+  /** 3 × n, as rows. */
+  jTheta: number[][];
+  jA: number[][];
+  jD: number[][];
+  segment?: number;
+  t?: number;
+  velocity?: Vec3;
+  jThetaDot?: number[][];
+  jADot?: number[][];
+  jDDot?: number[][];
+}
+
+// ---- primitives ----
+
+export type Primitive =
+  | { type: 'point'; p: Vec3 }
+  | { type: 'segment'; a: Vec3; b: Vec3 }
+  | { type: 'sphere'; center: Vec3; radius: number }
+  | { type: 'capsule'; a: Vec3; b: Vec3; radius: number }
+  | { type: 'taperedCapsule'; a: Vec3; b: Vec3; radius: [number, number] }
+  | { type: 'plane'; normal: Vec3; offset: number }
+  | { type: 'rectangle'; center: Vec3; axes: [Vec3, Vec3]; halfExtents: [number, number] }
+  | { type: 'disk'; center: Vec3; normal: Vec3; radius: number }
+  | { type: 'polygon'; vertices: Vec3[] }
+  | { type: 'box'; center: Vec3; halfExtents: Vec3; rotation: Quat }
+  | { type: 'convexHull'; points: Vec3[] };
+
+export interface Human {
+  type: 'human';
+  position: Vec3;
+  heading?: number;
+  height?: number;
+  reach?: number;
+}
+
+export type Shape = Primitive | Human;
+
+export interface DistanceResult {
+  /** Negative by the penetration depth when two solids overlap. */
+  distance: number;
+  pointA: Vec3;
+  pointB: Vec3;
+}
+
+// ---- scenarios ----
+
+export type Motion =
+  | { type: 'static' }
+  | { type: 'linear'; velocity: Vec3 }
+  | { type: 'waypoints'; points: Vec3[]; times: number[]; loop?: boolean }
+  | { type: 'circular'; center: Vec3; axis: Vec3; period: number };
+
+export interface Obstacle {
+  id: string;
+  shape: Shape;
+  motion?: Motion;
+}
+
+export type Task =
+  | { type: 'hold' }
+  | { type: 'goal'; position: Vec3; orientation?: Quat; chain?: number }
+  | { type: 'trajectory'; points: Vec3[]; times: number[]; chain?: number };
+
+export interface Controller {
+  mode?: 'velocity' | 'torque' | 'clik2';
+  selection?: 'pairs' | 'perObstacle' | 'pinned';
+  pinned?: DhPoint[];
+  influenceDistance?: number;
+  repulsionGain?: number;
+  maxRepulsionSpeed?: number;
+  transitionTime?: number;
+  jumpThreshold?: number;
+  activationBand?: number;
+  taskGain?: number;
+  /** One positive weight per joint (eq. 4's W). */
+  jointWeights?: number[];
+  damping?: { epsilon?: number; lambdaMax?: number };
+  torque?: { stiffness?: number; damping?: number; jointDamping?: number; inertia?: number; forceGain?: number };
+  clik2?: { kp?: number; kd?: number };
+  selfCollision?: boolean;
+}
+
+export interface SensingError {
+  bound?: number;
+  sigma?: number;
+  seed?: number;
+}
+
+export interface Dependability {
+  switchWindow?: number;
+  maxSwitches?: number;
+  onChattering?: 'stop' | 'lock';
+  lockTime?: number;
+  maxDeceleration?: number;
+}
+
+export interface Scenario {
+  robot: RobotInput;
+  q0?: JointVector;
+  obstacles: Obstacle[];
+  task?: Task;
+  controller?: Controller;
+  /** `default` and obstacle ids. */
+  sensing?: { [obstacleIdOrDefault: string]: SensingError };
+  dependability?: Dependability;
+  dt: number;
+  duration: number;
+  sampleEvery?: number;
+}
+
+// ---- traces and state ----
+
+export interface TraceControlPoint {
+  position: Vec3;
+  link: number;
+  d: number;
+  a: number;
+  obstacle: string;
+  distance: number;
+}
+
+export interface TraceSample {
+  t: number;
+  q: number[];
+  minClearance: number | null;
+  controlPoints: TraceControlPoint[];
+}
+
+export type EventKind =
+  | 'segmentSwitch'
+  | 'transitionStart'
+  | 'transitionEnd'
+  | 'switchRisk'
+  | 'chattering'
+  | 'stop'
+  | 'resume'
+  | 'lock'
+  | 'unlock'
+  | 'transitionTooSlow'
+  | 'unavoidable'
+  | (string & {});
+
+/** `{ t, kind }` and the fields of its kind (docs/scenarios.md). */
+export interface TraceEvent {
+  t: number;
+  kind: EventKind;
+  obstacle?: string;
+  [field: string]: unknown;
+}
+
+export interface Trace {
+  samples: TraceSample[];
+  events: TraceEvent[];
+}
+
+export interface StateControlPoint extends TraceControlPoint {
+  witness: Vec3;
+  /** m/s (velocity, clik2) or N (torque). */
+  repulsion: Vec3;
+  transitioning: boolean;
+  target?: DhPoint;
+}
+
+export interface WorldState {
+  t: number;
+  q: number[];
+  qdot: number[];
+  minClearance: number | null;
+  skeleton: { nodes: Vec3[]; segments: SkeletonSegment[] };
+  obstacles: { id: string; shape: Shape; parts: Primitive[] }[];
+  controlPoints: StateControlPoint[];
+  uncertainty: { obstacle: string; radius: number }[];
+  events: TraceEvent[];
+  timeToCollision?: number;
+  stopped: boolean;
+}
+
+export interface PickResult {
+  id: string;
+  point: Vec3;
+  distance: number;
+}
+
+// ---- functions ----
+
+export function robotPreset(name: PresetName): RobotSpec;
+export function presetNames(): string[];
+export function robotFromUrdf(xml: string, options?: UrdfOptions): RobotSpec & { jointNames: string[] };
+export function forwardKinematics(robot: RobotInput, q: JointVector): ForwardKinematics;
+export function skeleton(robot: RobotInput, q: JointVector): SkeletonResult;
+export function controlPoint(robot: RobotInput, q: JointVector, point: DhPoint, rates?: ControlPointRates): ControlPointResult;
+export function skeletonPoint(robot: RobotInput, q: JointVector, at: { segment: number; t: number }): DhPoint & { position: Vec3 };
+export function distance(a: Primitive, b: Primitive): DistanceResult;
+export function simulate(scenario: Scenario): Trace;
+export function exampleScenario(name: string): Scenario;
+export function exampleScenarioNames(): string[];
+
+/** A live simulation; JavaScript owns it: call `free()` when done. */
+export class World {
+  constructor(scenario: Scenario);
+  /** One control step of `dt` seconds, `0 < dt ≤ 0.1`. */
+  step(dt: number): void;
+  /** `steps` control steps of `dt`. */
+  advance(dt: number, steps: number): void;
+  readonly time: number;
+  readonly eventCount: number;
+  /** The state; with `since`, only the events from that index. */
+  state(since?: number): WorldState;
+  addObstacle(obstacle: Obstacle): void;
+  removeObstacle(id: string): void;
+  setObstacleShape(id: string, shape: Shape): void;
+  moveObstacle(id: string, position: Vec3): void;
+  setController(partial: Controller): void;
+  pick(origin: Vec3, direction: Vec3): PickResult | null;
+  reset(): void;
+  free(): void;
+}
