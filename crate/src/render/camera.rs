@@ -127,14 +127,22 @@ impl Camera {
         }
         let mid = 0.5 * (lo + hi);
         let half = (0.5 * (hi - lo)).max(Vec3::splat(0.02));
-        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect } else { 1.0 };
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            1.0
+        };
         let fill = fill.clamp(0.05, 1.0);
         // Half the visible height at the target that makes the box fill `fill`.
         let half_height = half.y.max(half.x / aspect) / fill;
         self.target = mid.x * right + mid.y * up + mid.z * back;
         // In perspective the near half of the box is closer to the eye: step
         // back by its depth so that it is not drawn larger than planned.
-        let depth = if self.view == View::Orbit { half.z } else { 0.0 };
+        let depth = if self.view == View::Orbit {
+            half.z
+        } else {
+            0.0
+        };
         self.distance = (half_height / (0.5 * self.fov_y).tan() + depth).clamp(1e-3, 1e4);
     }
 

@@ -421,9 +421,13 @@ impl Viewer {
             Some(world) => super::draw::fit_points(world, 0.8),
             None => self.drawn_nodes(),
         };
-        let points: Vec<Vec3> = points.iter().map(|p| glam::DVec3::from(*p).as_vec3()).collect();
+        let points: Vec<Vec3> = points
+            .iter()
+            .map(|p| glam::DVec3::from(*p).as_vec3())
+            .collect();
         let (width, height) = self.renderer.size();
-        self.camera.fit(&points, width as f32 / height.max(1) as f32, fill as f32);
+        self.camera
+            .fit(&points, width as f32 / height.max(1) as f32, fill as f32);
         self.dirty = true;
         Ok(())
     }
