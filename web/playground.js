@@ -392,6 +392,7 @@ export class Playground {
 
   reset() {
     this.rebuild({});
+    this.fit();
     this.setStatus('Reset.');
   }
 

@@ -164,21 +164,26 @@ test('touch: a vertical swipe over a widget scrolls the page, a pinch zooms the 
     const widget = page.locator('skeleton-playground').first();
     await widget.scrollIntoViewIfNeeded();
     await frames(page, 3);
-    const box = await widget.boundingBox();
+    const view = widget.locator('#view');
+    const box = await view.boundingBox();
     const cdp = await page.context().newCDPSession(page);
-    const touch = async (type, points) => cdp.send('Input.dispatchTouchEvent', { type, touchPoints: points.map(([x, y], id) => ({ x, y, id })) });
+    // One touch event per frame, as a finger gives them.
+    const touch = async (type, points) => {
+      await cdp.send('Input.dispatchTouchEvent', { type, touchPoints: points.map(([x, y], id) => ({ x, y, id })) });
+      await page.waitForTimeout(16);
+    };
     const x = box.x + box.width / 2;
-    const y = box.y + box.height * 0.7;
+    const y = box.y + box.height * 0.8;
     const y0 = await page.evaluate(() => scrollY);
     await touch('touchStart', [[x, y]]);
-    for (let k = 1; k <= 10; k++) await touch('touchMove', [[x, y - 25 * k]]);
+    for (let k = 1; k <= 8; k++) await touch('touchMove', [[x, y - 20 * k]]);
     await touch('touchEnd', []);
     await page.waitForTimeout(500);
     const y1 = await page.evaluate(() => scrollY);
     assert.ok(y1 - y0 > 100, `the swipe scrolled the page ${y1 - y0} px`);
     // Pinch out in the middle of the widget: it zooms in.
-    const b2 = await widget.boundingBox();
-    const [cx, cy] = [b2.x + b2.width / 2, b2.y + b2.height * 0.4];
+    const b2 = await view.boundingBox();
+    const [cx, cy] = [b2.x + b2.width / 2, b2.y + b2.height / 2];
     const distance = () => page.evaluate(() => document.querySelector('skeleton-playground').playground.viewer.state());
     const before = robotCover(await distance());
     await touch('touchStart', [[cx - 20, cy], [cx + 20, cy]]);
