@@ -252,6 +252,8 @@ function buildJointSliders(pg) {
       out.textContent = q[i].toFixed(2);
       pg.rebuild({ q0: q }, p.worldMessage);
     });
+    // Released: frame the new pose.
+    slider.addEventListener('change', () => pg.fit());
     return h('div', { class: 'row' }, h('label', {}, `q${r.label}`, slider, out));
   }));
 }

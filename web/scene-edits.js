@@ -65,7 +65,8 @@ export const sceneMethods = {
 
   /** Drops a `#scenario=` the scene no longer matches from the address bar. */
   forgetShareLink() {
-    if (!this.options.share || !location.hash.startsWith('#scenario=')) return;
+    if (!this.fromShareLink || !location.hash.startsWith('#scenario=')) return;
+    this.fromShareLink = false;
     history.replaceState(null, '', location.pathname + location.search);
     this.lastHash = '';
   },
@@ -80,7 +81,7 @@ export const sceneMethods = {
       return true;
     }
     if (!scenario) return false;
-    this.loadScenario(scenario, 'shared scenario');
+    this.fromShareLink = !this.loadScenario(scenario, 'shared scenario') && Boolean(this.options.share);
     return true;
   },
 

@@ -36,7 +36,7 @@ export const STYLE = `
 .help table { border-collapse: collapse; } .help td { padding: 0.1rem 0.6rem 0.1rem 0; vertical-align: top; }
 kbd { font: 11px ui-monospace, monospace; border: 1px solid #c9ced8; border-bottom-width: 2px; border-radius: 3px; padding: 0 0.3rem; background: #fff; white-space: nowrap; }
 .panel-toggle { display: none; position: absolute; right: 0.5rem; bottom: 0.5rem; z-index: 2; }
-.plots { display: grid; grid-template-columns: repeat(3, minmax(0, 1fr)) minmax(15rem, 1.1fr); gap: 4px; padding: 4px;
+.plots { display: grid; grid-template-columns: repeat(3, minmax(0, 1fr)) minmax(0, 1.1fr); gap: 4px; padding: 4px;
          border-top: 1px solid #dde1e8; min-height: 0; overflow: auto; }
 .plot { margin: 0; display: grid; grid-template-rows: auto minmax(0, 1fr); min-height: 0; min-width: 0; border: 1px solid #e6e9ef; border-radius: 3px; background: #fff; }
 .plot canvas { width: 100%; height: 100%; min-height: 4.5rem; display: block; }
@@ -88,7 +88,7 @@ button:focus-visible, select:focus-visible, input:focus-visible { outline: 2px s
 .sp.minimal.with-plot .plots { display: grid; grid-template-columns: minmax(0, 1fr); height: 9rem; }
 @container sp (max-width: 900px) {
   .sp.full { grid-template-columns: minmax(0, 1fr); grid-template-rows: minmax(0, 1fr) 12.5rem; }
-  .sp.full .panel { position: absolute; top: 0; right: 0; bottom: 0; width: min(22rem, 92%); z-index: 5; transform: translateX(102%);
+  .sp.full .panel { grid-column: auto; grid-row: auto; position: absolute; top: 0; right: 0; bottom: 0; width: min(22rem, 92%); z-index: 5; transform: translateX(102%);
                     transition: transform 0.15s; box-shadow: -2px 0 10px rgba(0,0,0,0.15); visibility: hidden; }
   .sp.full.panel-open .panel { transform: none; visibility: visible; }
   .panel-toggle { display: block; }

@@ -406,7 +406,7 @@ impl Viewer {
     }
 
     /// Frames the scene: the camera keeps its direction and aims at the
-    /// robot's skeleton and the obstacles near it (centres within 0.8 × the
+    /// robot's skeleton and the obstacles near it (centres within 1.5 × the
     /// radius of the skeleton's box from its centre) so that they fill about
     /// `fill` of the view's width or height (default 0.6).
     ///
@@ -418,7 +418,7 @@ impl Viewer {
             return Err(JsError::new("fit.fill: must be in (0, 1]"));
         }
         let points = match &self.world {
-            Some(world) => super::draw::fit_points(world, 0.8),
+            Some(world) => super::draw::fit_points(world, 1.5),
             None => self.drawn_nodes(),
         };
         let points: Vec<Vec3> = points
