@@ -469,7 +469,9 @@ export class Playground {
   /** Frames the robot and the obstacles near it (about 60 % of the view). */
   fit() {
     if (!this.viewer) return;
-    this.guard(() => this.viewer.fit?.(0.6));
+    // A portrait view (a phone) is limited by its width: fill more of it.
+    const portrait = this.canvas.clientHeight > 1.2 * this.canvas.clientWidth;
+    this.guard(() => this.viewer.fit?.(portrait ? 0.85 : 0.75));
     this.cameraTouched = false;
     this.edited = true;
   }

@@ -289,29 +289,21 @@ fn draw_skeleton(scene: &mut Scene, skeleton: &SkeletonView, options: &DrawOptio
 }
 
 /// The points a view should frame: the skeleton's nodes and the centre of
-/// every bounded obstacle part near the robot: within `near` times the
-/// radius of the skeleton's box, measured from the box's centre. Infinite
-/// planes and far-away parts (a large floor, a person walking in from afar)
-/// are left out so that the robot stays large on screen.
+/// every bounded obstacle part the robot can reach (within `reach` metres of
+/// `base`). Infinite planes and parts out of reach (a large floor's centre,
+/// a person walking in from afar) are left out so that the robot stays
+/// large on screen.
 #[must_use]
-pub fn fit_points(state: &DrawState, near: f64) -> Vec<[f64; 3]> {
+pub fn fit_points(state: &DrawState, base: [f64; 3], reach: f64) -> Vec<[f64; 3]> {
+    let base = DVec3::from(base);
     let mut points = state.skeleton.nodes.clone();
-    let (lo, hi) = points.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(DVec3::from(*p)), hi.max(DVec3::from(*p))),
-    );
-    if !(lo.is_finite() && hi.is_finite()) {
-        return points;
-    }
-    let center = 0.5 * (lo + hi);
-    let radius = near * (0.5 * (hi - lo).length()).max(0.05);
     for o in &state.obstacles {
         for part in o.primitives() {
             if matches!(part, PrimitiveSpec::Plane(_)) {
                 continue;
             }
             let p = anchor(&part);
-            if DVec3::from(p).distance(center) <= radius {
+            if DVec3::from(p).distance(base) <= reach {
                 points.push(p);
             }
         }

@@ -406,9 +406,9 @@ impl Viewer {
     }
 
     /// Frames the scene: the camera keeps its direction and aims at the
-    /// robot's skeleton and the obstacles near it (centres within 1.5 × the
-    /// radius of the skeleton's box from its centre) so that they fill about
-    /// `fill` of the view's width or height (default 0.6).
+    /// robot's skeleton and the obstacles it can reach (centres within its
+    /// reach from the base) so that they fill about `fill` of the view's
+    /// width or height (default 0.6).
     ///
     /// # Errors
     /// An `Error` unless `fill` is undefined or a number in (0, 1].
@@ -418,7 +418,7 @@ impl Viewer {
             return Err(JsError::new("fit.fill: must be in (0, 1]"));
         }
         let points = match &self.world {
-            Some(world) => super::draw::fit_points(world, 1.5),
+            Some(world) => super::draw::fit_points(world, self.center.to_array(), self.reach),
             None => self.drawn_nodes(),
         };
         let points: Vec<Vec3> = points
