@@ -16,6 +16,9 @@
 //   stats     show the stats overlay (always shown with controls="full")
 //   share     read the scenario from the page URL's #scenario= fragment when present
 //             and follow later changes of it (for a page hosting one full playground)
+//   autoplay  run from page load; by default a widget runs only while it is on
+//             screen (it starts when scrolled into view and waits off screen)
+//   fill      the widget is the page: the wheel always zooms, touch never scrolls
 //
 // The element's `playground` property is the Playground once `ready` resolves.
 import { Playground, loadWasm } from './playground.js';
@@ -61,9 +64,19 @@ export class SkeletonPlayground extends HTMLElement {
       plot: this.getAttribute('plot') ?? undefined,
       stats: this.hasAttribute('stats'),
       keyboardTarget: this.hasAttribute('fill') ? window : undefined,
+      captureWheel: this.hasAttribute('fill'),
+      share: this.hasAttribute('share'),
     });
     this.playground = pg;
     if (this.hasAttribute('paused')) pg.toggleRun();
+    if (!this.hasAttribute('autoplay') && typeof IntersectionObserver === 'function') {
+      // Off screen the simulation waits, so a reader finds each widget at its start.
+      pg.setOffscreen(true);
+      this.observer = new IntersectionObserver((entries) => {
+        for (const entry of entries) pg.setOffscreen(!entry.isIntersecting);
+      }, { threshold: 0.25 });
+      this.observer.observe(this);
+    }
     (async () => {
       const scenario = await resolveScenario(this.getAttribute('scenario'));
       await pg.start(scenario);
@@ -84,7 +97,9 @@ export class SkeletonPlayground extends HTMLElement {
   disconnectedCallback() {
     // Elements moved within the page reconnect; only a removed element is freed.
     queueMicrotask(() => {
-      if (!this.isConnected) this.playground?.destroy();
+      if (this.isConnected) return;
+      this.observer?.disconnect();
+      this.playground?.destroy();
     });
   }
 }

@@ -5,9 +5,18 @@
 //
 // Everything the person types or loads is shown with textContent, never as
 // HTML. Every failure is shown in the widget and leaves the scene as it was.
+import { clone, errorText, h } from './dom.js';
+import { EventFeed } from './events.js';
+import { TraceRecorder } from './export.js';
+import { wireInput } from './input.js';
+import { readoutMethods } from './readouts.js';
+import { sceneMethods } from './scene-edits.js';
+import { PRESETS, applyDh, buildPanel, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
 import { TimePlot } from './plots.js';
-import { decodeShare, downloadScenario, encodeShare, readScenarioFile } from './scenario-io.js';
+import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
 import { STYLE } from './style.js';
+
+export { PALETTE, PRESETS, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape };
 
 let wasmModule = null;
 
@@ -34,141 +43,13 @@ async function softwareWebGpu() {
   }
 }
 
-export const PRESETS = ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm'];
-export const PALETTE = ['point', 'segment', 'sphere', 'capsule', 'plane', 'rectangle', 'disk', 'polygon', 'box', 'human'];
-
-const errorText = (err) => (err instanceof Error ? err.message : String(err));
-const clone = (x) => (x === undefined ? undefined : JSON.parse(JSON.stringify(x)));
-
-/** `h('div', { class: 'x', onclick }, child, 'text')`: text children become text nodes. */
-function h(tag, attrs = {}, ...children) {
-  const el = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (v === undefined || v === null || v === false) continue;
-    if (k.startsWith('on')) el.addEventListener(k.slice(2), v);
-    else if (k === 'class') el.className = v;
-    else if (k in el && typeof v !== 'string') el[k] = v;
-    else el.setAttribute(k, v === true ? '' : v);
-  }
-  for (const c of children.flat()) {
-    if (c === null || c === undefined || c === false) continue;
-    el.append(typeof c === 'string' || typeof c === 'number' ? document.createTextNode(String(c)) : c);
-  }
-  return el;
-}
-
-// ---- shapes: translate, scale, rotate (plain objects of the JS contract) ----
-
-const add = (a, b) => a.map((x, k) => x + b[k]);
-const sub = (a, b) => a.map((x, k) => x - b[k]);
-const mul = (a, s) => a.map((x) => x * s);
-const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-const len = (a) => Math.hypot(...a);
-const isPoint = (p) => Array.isArray(p) && p.length === 3 && p.every((x) => typeof x === 'number');
-
-/** Applies `f` to every point of a shape (recursing into composite parts). */
-function mapPoints(shape, f) {
-  const out = { ...shape };
-  for (const key of ['p', 'a', 'b', 'center', 'position']) if (isPoint(out[key])) out[key] = f(out[key]);
-  for (const key of ['vertices', 'points']) if (Array.isArray(out[key])) out[key] = out[key].map((p) => (isPoint(p) ? f(p) : p));
-  if (Array.isArray(out.parts)) out.parts = out.parts.map((part) => mapPoints(part, f));
-  return out;
-}
-
-/** The shape moved by `delta` (m). */
-export function translateShape(shape, delta) {
-  const out = mapPoints(shape, (p) => add(p, delta));
-  if (shape.type === 'plane') out.offset = shape.offset - dot(shape.normal, delta);
-  return out;
-}
-
-/** A representative point: the centre. */
-export function shapeCenter(shape) {
-  switch (shape.type) {
-    case 'point': return shape.p;
-    case 'segment': case 'capsule': case 'taperedCapsule': return mul(add(shape.a, shape.b), 0.5);
-    case 'plane': { const n = shape.normal; return mul(n, -shape.offset / dot(n, n)); }
-    case 'polygon': return mul(shape.vertices.reduce(add, [0, 0, 0]), 1 / shape.vertices.length);
-    default: {
-      if (isPoint(shape.center)) return shape.center;
-      if (isPoint(shape.position)) return shape.position;
-      const pts = [];
-      mapPoints(shape, (p) => { pts.push(p); return p; });
-      return pts.length ? mul(pts.reduce(add, [0, 0, 0]), 1 / pts.length) : [0, 0, 0];
-    }
-  }
-}
-
-/** The shape scaled by `s` about its centre. */
-export function scaleShape(shape, s) {
-  const c = shapeCenter(shape);
-  const out = mapPoints(shape, (p) => add(c, mul(sub(p, c), s)));
-  for (const key of ['radius', 'height', 'scale']) {
-    if (typeof out[key] === 'number') out[key] *= s;
-    else if (Array.isArray(out[key])) out[key] = out[key].map((r) => r * s);
-  }
-  if (Array.isArray(out.halfExtents)) out.halfExtents = out.halfExtents.map((r) => r * s);
-  if (Array.isArray(out.parts)) out.parts = out.parts.map((p) => ({ ...p, ...(typeof p.radius === 'number' ? { radius: p.radius * s } : {}) }));
-  return out;
-}
-
-function rotate(v, axis, angle) {
-  const [x, y, z] = axis;
-  const c = Math.cos(angle);
-  const s = Math.sin(angle);
-  const d = dot(axis, v);
-  return [
-    v[0] * c + (y * v[2] - z * v[1]) * s + x * d * (1 - c),
-    v[1] * c + (z * v[0] - x * v[2]) * s + y * d * (1 - c),
-    v[2] * c + (x * v[1] - y * v[0]) * s + z * d * (1 - c),
-  ];
-}
-
-function quatMul(a, b) {
-  const [ax, ay, az, aw] = a;
-  const [bx, by, bz, bw] = b;
-  return [aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz];
-}
-
-/** The shape rotated by `angle` (rad) about the world `axis` through its centre. */
-export function rotateShape(shape, axis, angle) {
-  const c = shapeCenter(shape);
-  const out = mapPoints(shape, (p) => add(c, rotate(sub(p, c), axis, angle)));
-  if (isPoint(shape.normal)) out.normal = rotate(shape.normal, axis, angle);
-  if (shape.type === 'plane') out.offset = -dot(out.normal, c);
-  if (Array.isArray(shape.axes)) out.axes = shape.axes.map((a) => rotate(a, axis, angle));
-  if (shape.type === 'human' && Math.abs(axis[2]) > 0.99) out.heading = (shape.heading ?? 0) + Math.sign(axis[2]) * angle;
-  if (shape.type === 'box') {
-    const q = [...mul(axis, Math.sin(angle / 2)), Math.cos(angle / 2)];
-    out.rotation = quatMul(q, shape.rotation ?? [0, 0, 0, 1]);
-  }
-  return out;
-}
-
-/** A new shape of `type` around `c` (m), sized for an arm of reach `r` (m). */
-export function defaultShape(type, c, r) {
-  const s = Math.max(0.04, 0.12 * r);
-  switch (type) {
-    case 'point': return { type, p: c };
-    case 'segment': return { type, a: add(c, [0, -s, 0]), b: add(c, [0, s, 0]) };
-    case 'sphere': return { type, center: c, radius: 0.6 * s };
-    case 'capsule': return { type, a: add(c, [0, -s, 0]), b: add(c, [0, s, 0]), radius: 0.4 * s };
-    case 'plane': { const n = [-1, 0, 0]; return { type, normal: n, offset: -dot(n, c) }; }
-    case 'rectangle': return { type, center: c, axes: [[1, 0, 0], [0, 1, 0]], halfExtents: [s, 0.6 * s] };
-    case 'disk': return { type, center: c, normal: [0, 0, 1], radius: 0.8 * s };
-    case 'polygon': return { type, vertices: [0, 1, 2, 3, 4].map((k) => add(c, [s * Math.cos(k * 1.2566), s * Math.sin(k * 1.2566), 0])) };
-    case 'box': return { type, center: c, halfExtents: [0.6 * s, 0.8 * s, 0.5 * s], rotation: [0, 0, 0, 1] };
-    case 'human': return { type, position: [c[0], c[1], 0], heading: Math.atan2(-c[1], -c[0]), height: 1.75 };
-    default: throw new Error(`unknown obstacle type ${type}`);
-  }
-}
-
 // ---- the widget ----
 
 const HELP = [
   ['Space', 'pause / run'],
   ['S or .', 'single control step (while paused)'],
-  ['R', 'reset the simulation'],
+  ['R', 'reset the simulation and the view'],
+  ['F or double click', 'frame the robot and the obstacles'],
   ['1 … 0', 'add point, segment, sphere, capsule, plane, rectangle, disk, polygon, box, human'],
   ['Click', 'select an obstacle (drag it on the plane facing you)'],
   ['Alt + drag', 'move the obstacle along the view direction'],
@@ -177,22 +58,13 @@ const HELP = [
   ['Q / E', 'rotate the selected obstacle about z'],
   ['Escape', 'deselect, close this help'],
   ['V', 'next camera view'],
-  ['Drag empty space', 'orbit (3D) or pan (2D); right or Shift + drag pans; wheel zooms'],
+  ['Drag empty space', 'orbit (3D) or pan (2D); right or Shift + drag pans'],
+  ['Wheel', 'zoom once the view was clicked (or with Ctrl held); two fingers pinch'],
   ['?', 'this help'],
 ];
 
 /** Frames between refreshes of the plots and the text over the view. */
 const REFRESH_EVERY = 10;
-
-const EVENT_TEXT = {
-  segmentSwitch: 'control point switches segment',
-  transitionTooSlow: 'transition slower than the time to collision',
-  transitionStart: 'transition starts',
-  transitionEnd: 'transition ends',
-  chattering: 'chattering detected',
-  stop: 'robot stopped',
-  lock: 'control point locked',
-};
 
 export class Playground {
   /**
@@ -219,6 +91,9 @@ export class Playground {
     this.stats = { fps: 0, frameMs: 0, stepsPerFrame: 0, stepMs: 0, drawMs: 0 };
     this.frameTimes = [];
     this.robotSpec = null;
+    /** Whether the wheel zooms without Ctrl (the view was clicked; always on the full page). */
+    this.engaged = options.captureWheel ?? false;
+    this.offscreen = false;
     this.build();
   }
 
@@ -226,7 +101,9 @@ export class Playground {
 
   build() {
     const style = h('style', {}, STYLE);
-    this.canvas = h('canvas', { class: 'view', id: 'view', tabindex: '0', 'aria-label': 'Robot and obstacles' });
+    this.canvas = h('canvas', { class: 'view', id: 'view', tabindex: '0', role: 'img',
+      'aria-label': 'Simulated robot and obstacles. Drag to orbit, click an obstacle to select it; press ? for the keys.' });
+    this.hintBox = h('div', { class: 'hint-box', id: 'view-hint', hidden: true, 'aria-live': 'polite' });
     this.statsBox = h('div', { class: 'stats', id: 'stats', 'aria-hidden': 'true' });
     this.hud = h('div', { class: 'hud', id: 'hud' });
     this.notices = h('div', { class: 'notices', id: 'notices', 'aria-live': 'polite' });
@@ -237,7 +114,11 @@ export class Playground {
       h('strong', {}, 'Keyboard and mouse'),
       h('table', {}, HELP.map(([k, what]) => h('tr', {}, h('td', {}, h('kbd', {}, k)), h('td', {}, what)))),
       h('p', { class: 'hint' }, 'Press ? or Escape to close.'));
-    const stage = h('div', { class: 'stage' }, this.canvas, this.statsBox, this.hud, this.notices, this.errorBox, this.helpBox);
+    const stage = h('div', { class: 'stage' }, this.canvas, this.statsBox, this.hud, this.notices, this.hintBox, this.errorBox, this.helpBox);
+    if (this.controls === 'full') {
+      stage.append(h('button', { type: 'button', class: 'panel-toggle', id: 'panel-toggle', 'aria-controls': 'panel', 'aria-expanded': 'false',
+        onclick: (e) => e.currentTarget.setAttribute('aria-expanded', String(this.container.classList.toggle('panel-open'))) }, '☰ Controls'));
+    }
 
     this.plots = {
       clearance: new TimePlot(h('canvas', { id: 'plot-clearance' }), { title: 'clearance', unit: 'm', min: 0 }),
@@ -245,12 +126,16 @@ export class Playground {
       qdot: new TimePlot(h('canvas', { id: 'plot-qdot' }), { title: 'joint velocities', unit: 'rad/s' }),
     };
     const wanted = this.controls === 'full' ? Object.keys(this.plots) : (this.options.plot ? [this.options.plot] : []);
-    const plots = h('div', { class: 'plots' }, wanted.filter((k) => this.plots[k]).map((k) => this.plots[k].canvas));
     this.shownPlots = wanted.filter((k) => this.plots[k]);
+    const plots = h('div', { class: 'plots' }, this.shownPlots.map((k) => this.plots[k].element));
+    const log = this.controls === 'full' ? h('section', { class: 'log', id: 'log', 'aria-label': 'event log' }) : null;
+    if (log) plots.append(log);
+    this.events = new EventFeed({ notices: this.notices, log, onSeek: (t) => this.seek(t) });
+    this.trace = new TraceRecorder();
 
     const cls = `sp ${this.controls}${this.options.plot ? ' with-plot' : ''}${this.options.stats ? ' with-stats' : ''}`;
     this.container = h('div', { class: cls }, stage, plots);
-    if (this.controls === 'full') this.container.append(this.buildPanel());
+    if (this.controls === 'full') this.container.append(buildPanel(this));
     else if (this.controls === 'minimal') this.container.append(this.buildBar());
     this.root.append(style, this.container);
   }
@@ -260,104 +145,9 @@ export class Playground {
     this.playButton = h('button', { type: 'button', onclick: () => this.toggleRun() }, 'Pause');
     return h('div', { class: 'bar' },
       this.playButton,
-      h('button', { type: 'button', onclick: () => this.reset() }, 'Reset'),
+      h('button', { type: 'button', onclick: () => this.reset(), title: 'restart and frame the view' }, 'Reset'),
+      h('button', { type: 'button', onclick: () => this.fit(), title: 'frame the robot and the obstacles (F, double click)' }, 'Fit'),
       this.title);
-  }
-
-  field(label, input) {
-    return h('div', { class: 'row' }, h('label', {}, label, input));
-  }
-
-  buildPanel() {
-    const p = {};
-    this.panel = p;
-    p.example = h('select', { id: 'example', 'aria-label': 'example scenario' });
-    p.file = h('input', { type: 'file', accept: '.json,application/json', hidden: true, id: 'file',
-      onchange: () => this.loadFile(p.file.files[0]) });
-    p.status = h('div', { class: 'hint', id: 'status', 'aria-live': 'polite' });
-    p.playButton = h('button', { type: 'button', id: 'run', onclick: () => this.toggleRun() }, 'Pause');
-    this.playButton = p.playButton;
-    p.speed = h('input', { type: 'range', id: 'speed', min: '-3', max: '1', step: '0.01', value: String(Math.log2(this.speed) / 2),
-      oninput: () => { this.speed = 4 ** Number(p.speed.value); p.speedOut.textContent = `${this.speed.toFixed(2)}×`; } });
-    p.speedOut = h('output', {}, `${this.speed.toFixed(2)}×`);
-
-    p.preset = h('select', { id: 'preset', onchange: () => this.setPreset(p.preset.value) },
-      PRESETS.map((n) => h('option', { value: n }, n)), h('option', { value: 'custom' }, 'custom (DH table)'));
-    p.convention = h('select', { id: 'convention' }, h('option', { value: 'standard' }, 'standard DH'), h('option', { value: 'modified' }, 'modified DH'));
-    p.dh = h('tbody');
-    p.dhMessage = h('div', { class: 'message', id: 'dh-message', role: 'status' });
-    p.joints = h('div', { id: 'joints' });
-
-    const num = (id, step, title) => h('input', { type: 'number', id, step, placeholder: 'default', title });
-    p.mode = h('select', { id: 'mode' }, ['velocity', 'torque', 'clik2'].map((m) => h('option', { value: m }, m)));
-    p.selection = h('select', { id: 'selection' }, ['pairs', 'perObstacle', 'pinned'].map((m) => h('option', { value: m }, m)));
-    p.influenceDistance = num('influence', '0.01', 'm');
-    p.repulsionGain = num('gain', '0.1', '');
-    p.maxRepulsionSpeed = num('max-speed', '0.05', 'm/s');
-    p.transitionTime = num('transition-time', '0.01', 's per DH value');
-    p.controllerMessage = h('div', { class: 'message', id: 'controller-message' });
-    for (const key of ['mode', 'selection']) p[key].addEventListener('change', () => this.setController({ [key]: p[key].value }));
-    for (const key of ['influenceDistance', 'repulsionGain', 'maxRepulsionSpeed', 'transitionTime']) {
-      p[key].addEventListener('change', () => {
-        if (p[key].value === '') return;
-        this.setController({ [key]: Number(p[key].value) });
-      });
-    }
-    p.bound = num('noise-bound', '0.005', 'm');
-    p.sigma = num('noise-sigma', '0.005', 'm');
-    p.switchWindow = num('switch-window', '0.1', 's');
-    p.maxSwitches = num('max-switches', '1', '');
-    p.onChattering = h('select', { id: 'on-chattering' }, ['stop', 'lock'].map((m) => h('option', { value: m }, m)));
-    p.lockTime = num('lock-time', '0.1', 's');
-    p.worldMessage = h('div', { class: 'message', id: 'world-message' });
-
-    p.obstacles = h('ul', { class: 'obstacles', id: 'obstacle-list' });
-    p.selectedBox = h('div', { id: 'selected' });
-
-    p.viewSelect = h('select', { id: 'view-select', onchange: () => this.guard(() => this.viewer.setView(p.viewSelect.value)) },
-      [['auto', 'auto'], ['3d', '3D'], ['top', 'top'], ['front', 'front'], ['side', 'side']].map(([v, t]) => h('option', { value: v }, t)));
-    const check = (id, label, on) => h('label', { class: 'row' }, h('input', { type: 'checkbox', id, checked: on, onchange: () => this.applyDisplay() }), label);
-
-    return h('aside', { class: 'panel' },
-      h('h3', {}, 'Scenario'),
-      h('div', { class: 'row' }, p.example,
-        h('button', { type: 'button', onclick: () => p.file.click() }, 'Open…'),
-        h('button', { type: 'button', id: 'save', onclick: () => downloadScenario(this.currentScenario(), 'scenario.json') }, 'Save'),
-        h('button', { type: 'button', id: 'share', onclick: () => this.share() }, 'Share'), p.file),
-      p.status,
-      h('h3', {}, 'Simulation'),
-      h('div', { class: 'row' }, p.playButton,
-        h('button', { type: 'button', id: 'step', onclick: () => this.singleStep() }, 'Step'),
-        h('button', { type: 'button', id: 'reset', onclick: () => this.reset() }, 'Reset'),
-        h('button', { type: 'button', onclick: () => this.toggleHelp() }, '?')),
-      h('div', { class: 'row' }, h('label', {}, 'speed', p.speed, p.speedOut)),
-      h('h3', {}, 'Obstacles'),
-      h('div', { class: 'palette' }, PALETTE.map((t, k) => h('button', { type: 'button', id: `add-${t}`, title: `add a ${t} (key ${(k + 1) % 10})`, onclick: () => this.addObstacle(t) }, t))),
-      p.obstacles,
-      p.selectedBox,
-      h('h3', {}, 'Controller'),
-      this.field('mode', p.mode), this.field('selection', p.selection),
-      this.field('influence distance (m)', p.influenceDistance), this.field('repulsion gain', p.repulsionGain),
-      this.field('max repulsion speed (m/s)', p.maxRepulsionSpeed), this.field('transition time (s/value)', p.transitionTime),
-      p.controllerMessage,
-      h('h3', {}, 'Sensing and dependability'),
-      this.field('noise bound (m)', p.bound), this.field('noise σ (m)', p.sigma),
-      this.field('switch window (s)', p.switchWindow), this.field('max switches', p.maxSwitches),
-      this.field('on chattering', p.onChattering), this.field('lock time (s)', p.lockTime),
-      h('div', { class: 'row' }, h('button', { type: 'button', id: 'apply-sensing', onclick: () => this.applySensing() }, 'Apply (restarts)')),
-      p.worldMessage,
-      h('h3', {}, 'Robot'),
-      this.field('preset', p.preset),
-      this.field('convention', p.convention),
-      h('table', { class: 'dh', id: 'dh-table' },
-        h('thead', {}, h('tr', {}, ['#', 'a', 'α', 'd', 'θ', 'type'].map((c) => h('th', {}, c)))), p.dh),
-      h('div', { class: 'row' }, h('button', { type: 'button', id: 'apply-dh', onclick: () => this.applyDh() }, 'Apply DH table')),
-      p.dhMessage,
-      h('h3', {}, 'Initial joints'),
-      p.joints,
-      h('h3', {}, 'View'),
-      this.field('camera', p.viewSelect),
-      check('show-volumes', 'volumes', true), check('show-nodes', 'nodes', true), check('show-axes', 'frame axes', false));
   }
 
   // ---- start ----
@@ -377,8 +167,12 @@ export class Playground {
       this.guard(() => this.viewer.resize(Math.max(1, Math.round(this.canvas.clientWidth * dpr)), Math.max(1, Math.round(this.canvas.clientHeight * dpr))));
     };
     resize();
-    new ResizeObserver(resize).observe(this.canvas);
-    this.wireInput();
+    new ResizeObserver(() => {
+      resize();
+      // A view the person has not moved follows the widget's size.
+      if (!this.cameraTouched) this.fit();
+    }).observe(this.canvas);
+    wireInput(this);
     if (this.panel) {
       for (const name of this.wasm.exampleScenarioNames()) this.panel.example.append(h('option', { value: name }, name));
       this.panel.example.prepend(h('option', { value: '', disabled: true }, 'examples…'));
@@ -461,6 +255,7 @@ export class Playground {
     this.selected = null;
     this.viewer.setSelected(null);
     this.afterRebuild();
+    this.previousLabel = this.label;
     this.label = label;
     if (this.title) this.title.textContent = label;
     if (this.panel) {
@@ -470,6 +265,8 @@ export class Playground {
     this.setStatus(`Loaded ${label}.`);
     this.errorBox.hidden = true;
     this.refreshPanel();
+    this.fit();
+    if (label !== 'shared scenario') this.forgetShareLink();
     return null;
   }
 
@@ -490,6 +287,7 @@ export class Playground {
     this.world = world;
     this.scenario = clone(next);
     this.afterRebuild();
+    this.forgetShareLink();
     return true;
   }
 
@@ -500,74 +298,12 @@ export class Playground {
     this.state = this.world.state();
     this.drawWorld();
     this.edited = true;
-    this.notices.replaceChildren();
-  }
-
-  /**
-   * The scene as a scenario. By default it is the scene as it is now: the
-   * current joints become `q0` and every obstacle is where it is now (a
-   * moving one continues its motion from there). With `asEdited`, `q0` and
-   * the moving obstacles are those of the scenario as loaded and edited.
-   */
-  currentScenario({ keepQ0 = false, asEdited = keepQ0 } = {}) {
-    const s = clone(this.scenario);
-    const state = this.world.state();
-    const shapes = new Map(state.obstacles.map((o) => [o.id, o.shape]));
-    s.obstacles = (s.obstacles ?? []).map((o) => {
-      const moving = o.motion && o.motion.type !== 'static';
-      if (!shapes.has(o.id) || (moving && asEdited)) return o;
-      let shape = clone(shapes.get(o.id));
-      // A waypoint motion starts at its first point: start it from here.
-      if (moving && o.motion.type === 'waypoints' && isPoint(o.motion.points?.[0])) shape = translateShape(shape, mul(o.motion.points[0], -1));
-      return { ...o, shape };
-    });
-    if (!keepQ0) s.q0 = Array.from(state.q);
-    return s;
-  }
-
-  async loadFile(file) {
-    if (!file) return;
-    try {
-      const scenario = await readScenarioFile(file);
-      this.loadScenario(scenario, `file "${file.name}"`);
-    } catch (err) {
-      this.showError(`${errorText(err)}\nThe current scene is unchanged.`);
-    } finally {
-      if (this.panel) this.panel.file.value = '';
-    }
-  }
-
-  /** A URL that restores the current scene exactly. */
-  shareUrl() {
-    const url = new URL(location.href);
-    url.hash = encodeShare(this.currentScenario());
-    return url.href;
-  }
-
-  share() {
-    const url = this.shareUrl();
-    history.replaceState(null, '', url);
-    this.lastHash = location.hash;
-    navigator.clipboard?.writeText(url).then(
-      () => this.setStatus('Link copied; it is also in the address bar.'),
-      () => this.setStatus('The link is in the address bar.'),
-    );
-    this.setStatus('The link is in the address bar.');
-    return url;
-  }
-
-  /** Loads the scenario carried by a URL fragment; returns false when there is none. */
-  loadHash(hash) {
-    let scenario;
-    try {
-      scenario = decodeShare(hash);
-    } catch (err) {
-      this.showError(`${errorText(err)}\nThe current scene is unchanged.`);
-      return true;
-    }
-    if (!scenario) return false;
-    this.loadScenario(scenario, 'shared scenario');
-    return true;
+    this.events.clear();
+    this.trace.clear();
+    this.plots.clearance.setReferences([{ v: this.influence(), label: 'influence distance' }]);
+    const speeds = robotRows(this.robotSpec).map((r) => r.joint.maxVelocity).filter(Number.isFinite);
+    const vmax = speeds.length ? Math.min(...speeds) : NaN;
+    this.plots.qdot.setReferences([{ v: vmax, label: 'lowest speed limit' }, { v: -vmax }]);
   }
 
   // ---- edits ----
@@ -587,7 +323,10 @@ export class Playground {
   setController(partial) {
     const box = this.panel?.controllerMessage;
     const ok = this.guard(() => { this.world.setController(partial); return true; }, box);
-    if (ok) this.scenario.controller = { ...(this.scenario.controller ?? {}), ...partial };
+    if (ok) {
+      this.scenario.controller = { ...(this.scenario.controller ?? {}), ...partial };
+      this.forgetShareLink();
+    }
   }
 
   applySensing() {
@@ -603,15 +342,22 @@ export class Playground {
 
   setPreset(name) {
     if (name === 'custom') return;
-    const spec = this.wasm.robotPreset(name);
-    const dof = spec.joints.length;
-    this.withRobot({ preset: name }, new Array(dof).fill(0), this.panel?.dhMessage);
+    const dof = robotRows(this.wasm.robotPreset(name)).length;
+    this.withRobot({ preset: name }, new Array(dof).fill(0), this.panel?.dhMessage, `robot preset ${name}`);
   }
 
-  /** Replaces the robot (and q0); keeps everything as it was on error. */
-  withRobot(robot, q0, box) {
+  /**
+   * Replaces the robot (and q0); keeps everything as it was on error, with a
+   * message naming `what` (the preset or the edited robot the person chose).
+   */
+  withRobot(robot, q0, box, what = 'robot') {
     const next = { ...this.currentScenario({ keepQ0: true }), robot, q0 };
-    const message = this.loadScenario(next, this.label ?? 'scenario');
+    const message = this.loadScenario(next, what);
+    if (!message) {
+      // The scene keeps its name; only the robot changed.
+      this.label = this.previousLabel ?? what;
+      if (this.title) this.title.textContent = this.label;
+    }
     if (message && box) {
       box.textContent = message;
       this.errorBox.hidden = true;
@@ -620,92 +366,7 @@ export class Playground {
   }
 
   applyDh() {
-    const p = this.panel;
-    const joints = [...p.dh.children].map((tr, i) => {
-      const get = (k) => tr.querySelector(`[data-k="${k}"]`).value;
-      const joint = { ...(this.robotSpec.joints[i] ?? {}) };
-      for (const k of ['a', 'alpha', 'd', 'theta']) {
-        const text = get(k).trim();
-        joint[k] = text === '' ? NaN : Number(text);
-      }
-      joint.type = get('type');
-      return joint;
-    });
-    const spec = { ...this.robotSpec, convention: p.convention.value, joints };
-    const bad = [];
-    joints.forEach((j, i) => ['a', 'alpha', 'd', 'theta'].forEach((k) => { if (!Number.isFinite(j[k])) bad.push(`joint ${i + 1}: ${k} is not a number`); }));
-    if (bad.length) {
-      p.dhMessage.textContent = bad.join('\n');
-      return false;
-    }
-    const q0 = joints.map((_, i) => this.scenario.q0?.[i] ?? 0);
-    if (this.withRobot(spec, q0, p.dhMessage)) {
-      p.dhMessage.textContent = '';
-      p.preset.value = 'custom';
-      this.setStatus('DH table applied.');
-      return true;
-    }
-    return false;
-  }
-
-  nextId(type) {
-    const ids = new Set((this.scenario.obstacles ?? []).map((o) => o.id));
-    for (let k = 1; ; k++) if (!ids.has(`${type}-${k}`)) return `${type}-${k}`;
-  }
-
-  /** Adds an obstacle of `type` in front of the arm; returns its id (or null). */
-  addObstacle(type) {
-    const nodes = this.state.skeleton.nodes;
-    const base = nodes[0];
-    const reach = Math.max(0.2, ...nodes.map((n) => len(sub(n, base))));
-    const planar = nodes.every((n) => Math.abs(n[2] - base[2]) < 1e-9);
-    const k = (this.scenario.obstacles ?? []).length;
-    const c = add(base, [0.55 * reach, (0.35 - 0.18 * (k % 5)) * reach, planar ? 0 : 0.5 * reach]);
-    const id = this.nextId(type);
-    const spec = { id, shape: defaultShape(type, c, reach) };
-    const ok = this.guard(() => { this.world.addObstacle(spec); return true; });
-    if (!ok) return null;
-    this.edited = true;
-    this.scenario.obstacles = [...(this.scenario.obstacles ?? []), spec];
-    this.select(id);
-    this.setStatus(`Added ${id}.`);
-    return id;
-  }
-
-  removeSelected() {
-    const id = this.selected;
-    if (!id) return;
-    if (!this.guard(() => { this.world.removeObstacle(id); return true; })) return;
-    this.edited = true;
-    this.scenario.obstacles = this.scenario.obstacles.filter((o) => o.id !== id);
-    this.select(null);
-    this.setStatus(`Deleted ${id}.`);
-  }
-
-  shapeOf(id) {
-    return this.world.state(this.world.eventCount).obstacles.find((o) => o.id === id)?.shape;
-  }
-
-  /** Replaces the shape of obstacle `id`; returns false (message shown) on error. */
-  setShape(id, shape) {
-    const ok = this.guard(() => { this.world.setObstacleShape(id, shape); return true; });
-    if (!ok) return false;
-    this.edited = true;
-    this.scenario.obstacles = this.scenario.obstacles.map((o) => (o.id === id ? { ...o, shape: clone(shape) } : o));
-    return true;
-  }
-
-  editSelected(f) {
-    if (!this.selected) return;
-    const shape = this.shapeOf(this.selected);
-    if (shape && this.setShape(this.selected, f(shape))) this.refreshSelected();
-  }
-
-  select(id) {
-    this.selected = id;
-    this.viewer.setSelected(id);
-    this.refreshObstacleList();
-    this.refreshSelected();
+    return applyDh(this);
   }
 
   // ---- simulation ----
@@ -731,28 +392,32 @@ export class Playground {
 
   reset() {
     this.rebuild({});
+    this.fit();
     this.setStatus('Reset.');
+  }
+
+  /** How many control steps this frame owes the simulation (real time × speed, capped). */
+  stepsDue(wall) {
+    const dt = this.scenario.dt;
+    if (!this.running || this.offscreen) return this.pendingSteps;
+    this.acc += Math.min(wall, 0.1) * this.speed;
+    let steps = Math.floor(this.acc / dt + 1e-9);
+    const cap = Math.ceil(0.1 / dt);
+    if (steps > cap) {
+      steps = cap;
+      this.acc = 0;
+    } else {
+      this.acc -= steps * dt;
+    }
+    return steps;
   }
 
   frame(now) {
     const wall = this.lastNow === undefined ? 0 : (now - this.lastNow) / 1000;
     this.lastNow = now;
     const dt = this.scenario.dt;
-    let steps = 0;
     const t0 = performance.now();
-    if (this.running) {
-      this.acc += Math.min(wall, 0.1) * this.speed;
-      steps = Math.floor(this.acc / dt + 1e-9);
-      const cap = Math.ceil(0.1 / dt);
-      if (steps > cap) {
-        steps = cap;
-        this.acc = 0;
-      } else {
-        this.acc -= steps * dt;
-      }
-    } else {
-      steps = this.pendingSteps;
-    }
+    const steps = this.stepsDue(wall);
     this.pendingSteps = 0;
     // One call per frame where the binding offers it.
     if (steps > 0 && typeof this.world.advance === 'function') this.world.advance(dt, steps);
@@ -769,7 +434,20 @@ export class Playground {
     this.viewer.render();
     const t2 = performance.now();
     this.frames += 1;
+    this.measure(now, steps, t1 - t0, t2 - t1);
+    if (steps > 0) this.record();
+    if (changed) this.showEvents();
+    // Plots and the text over the view are refreshed together, six times a
+    // second: enough to read, and on software rendering every frame in
+    // which anything but the 3D canvas changes costs a full composite.
+    if (this.frames % REFRESH_EVERY === 0 || (!this.running && changed) || this.seekPending) {
+      this.seekPending = false;
+      for (const key of this.shownPlots) this.plots[key].draw();
+      this.refreshHud();
+    }
+  }
 
+  measure(now, steps, stepMs, drawMs) {
     this.frameTimes.push(now);
     if (this.frameTimes.length > 61) this.frameTimes.shift();
     const n = this.frameTimes.length - 1;
@@ -780,83 +458,47 @@ export class Playground {
       frameMs: span > 0 ? span / n : 0,
       stepsPerFrame: steps,
       meanSteps: (this.stats.meanSteps ?? steps) * (1 - k) + steps * k,
-      stepMs: (this.stats.stepMs ?? 0) * (1 - k) + (t1 - t0) * k,
-      drawMs: (this.stats.drawMs ?? 0) * (1 - k) + (t2 - t1) * k,
+      stepMs: (this.stats.stepMs ?? 0) * (1 - k) + stepMs * k,
+      drawMs: (this.stats.drawMs ?? 0) * (1 - k) + drawMs * k,
       backend: this.backend,
     };
-    if (steps > 0) this.record();
-    if (changed) this.showEvents();
-    // Plots and the text over the view are refreshed together, six times a
-    // second: enough to read, and on software rendering every frame in
-    // which anything but the 3D canvas changes costs a full composite.
-    if (this.frames % REFRESH_EVERY === 0 || (!this.running && changed)) {
-      for (const key of this.shownPlots) this.plots[key].draw();
-      this.refreshHud();
-    }
   }
 
-  record() {
-    const s = this.state;
-    const t = s.t;
-    this.plots.clearance.push('min', t, s.minClearance ?? NaN);
-    // One line per obstacle (and per control point on it), so colours stay with their obstacle.
-    const seen = new Map();
-    for (const cp of s.controlPoints) {
-      const k = (seen.get(cp.obstacle) ?? 0) + 1;
-      seen.set(cp.obstacle, k);
-      this.plots.clearance.push(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, t, cp.distance);
-    }
-    const cp = s.controlPoints.find((c) => c.transitioning) ?? s.controlPoints[0];
-    const joints = this.robotSpec?.joints ?? [];
-    joints.forEach((j, i) => {
-      let a = NaN;
-      let d = NaN;
-      if (cp) {
-        const row = i + 1;
-        a = row < cp.link ? j.a : row === cp.link ? cp.a : 0;
-        d = row < cp.link ? j.d : row === cp.link ? cp.d : 0;
-      }
-      this.plots.dh.push(`a${i + 1}`, t, a);
-      if (joints.some((x) => x.d !== 0)) this.plots.dh.push(`d${i + 1}`, t, d);
-    });
-    Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
+  // ---- camera ----
 
+  /** Frames the robot and the obstacles near it (about 60 % of the view). */
+  fit() {
+    if (!this.viewer) return;
+    // A portrait view (a phone) is limited by its width: fill more of it.
+    const portrait = this.canvas.clientHeight > 1.2 * this.canvas.clientWidth;
+    this.guard(() => this.viewer.fit?.(portrait ? 0.85 : 0.75));
+    this.cameraTouched = false;
+    this.edited = true;
   }
 
-  showEvents() {
-    // `state(since)` returns the events from index `since` on (a binding
-    // without the cursor returns them all).
-    let events = this.state.events ?? [];
-    const total = typeof this.world.eventCount === 'number' ? this.world.eventCount : events.length;
-    if (events.length === total) events = events.slice(this.seenEvents);
-    for (const e of events) {
-      const text = `t = ${Number(e.t).toFixed(3)} s · ${EVENT_TEXT[e.kind] ?? e.kind}`;
-      const note = h('div', { class: `notice ${e.kind}` }, text);
-      this.notices.append(note);
-      while (this.notices.children.length > 4) this.notices.firstChild.remove();
-      setTimeout(() => note.remove(), e.kind === 'stop' ? 8000 : 3500);
-    }
-    this.seenEvents = total;
+  /** The person moved the camera: the view stops following resizes. */
+  cameraMoved() {
+    this.cameraTouched = true;
   }
 
-  refreshHud() {
-    const s = this.state;
-    const st = this.stats;
-    this.statsBox.textContent = `${st.fps.toFixed(0)} fps  ${st.frameMs.toFixed(1)} ms/frame\n`
-      + `${st.stepsPerFrame} steps/frame (${(1 / this.scenario.dt).toFixed(0)} Hz × ${this.speed.toFixed(2)})\n`
-      + `step ${st.stepMs.toFixed(2)} ms  draw ${st.drawMs.toFixed(2)} ms  ${this.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}`;
-    const ttc = s.timeToCollision;
-    const lines = [
-      `t ${s.t.toFixed(3)} s${s.stopped ? '  STOPPED' : this.running ? '' : '  paused'}`,
-      `min clearance ${Number.isFinite(s.minClearance) ? `${(s.minClearance * 1000).toFixed(0)} mm` : '—'}`,
-      `time to collision ${ttc === undefined || ttc === null || !Number.isFinite(ttc) ? '—' : `${ttc.toFixed(2)} s`}`,
-    ];
-    s.controlPoints.slice(0, 3).forEach((cp, i) => {
-      let text = `cp${i + 1} link ${cp.link}  d' ${cp.d.toFixed(3)}  a' ${cp.a.toFixed(3)} m`;
-      if (cp.transitioning && cp.target) text += `  → link ${cp.target.link} (${cp.target.d.toFixed(3)}, ${cp.target.a.toFixed(3)})`;
-      lines.push(text);
-    });
-    this.hud.textContent = lines.join('\n');
+  /** A short hint over the view (e.g. how to zoom), hidden after a while. */
+  hint(text) {
+    this.hintBox.textContent = text;
+    this.hintBox.hidden = false;
+    clearTimeout(this.hintTimer);
+    this.hintTimer = setTimeout(() => { this.hintBox.hidden = true; }, 1800);
+  }
+
+  /** Off screen the simulation waits (an IntersectionObserver tells). */
+  setOffscreen(offscreen) {
+    this.offscreen = offscreen;
+    this.lastNow = undefined;
+  }
+
+  /** Downloads the run so far: `format` is `"csv"` or `"json"`. */
+  exportTrace(format) {
+    const names = robotRows(this.robotSpec).map((r) => r.label);
+    this.trace.download(format, names, this.label ?? 'run');
   }
 
   // ---- panel refresh ----
@@ -876,245 +518,19 @@ export class Playground {
   }
 
   refreshPanel() {
-    const p = this.panel;
-    if (!p) return;
-    const s = this.scenario;
-    const preset = typeof s.robot === 'object' && 'preset' in s.robot ? s.robot.preset : 'custom';
-    p.preset.value = preset;
-    p.convention.value = this.robotSpec.convention ?? 'standard';
-    p.dh.replaceChildren(...this.robotSpec.joints.map((j, i) => h('tr', {},
-      h('td', {}, String(i + 1)),
-      ['a', 'alpha', 'd', 'theta'].map((k) => h('td', {}, h('input', { 'data-k': k, id: `dh-${i}-${k}`, value: String(j[k] ?? 0), 'aria-label': `joint ${i + 1} ${k}`,
-        oninput: () => this.validateDh() }))),
-      h('td', {}, h('select', { 'data-k': 'type', 'aria-label': `joint ${i + 1} type` },
-        ['revolute', 'prismatic'].map((t) => h('option', { value: t, selected: (j.type ?? 'revolute') === t }, t)))))));
-    p.dhMessage.textContent = '';
-    const c = s.controller ?? {};
-    p.mode.value = c.mode ?? 'velocity';
-    p.selection.value = c.selection ?? 'pairs';
-    for (const key of ['influenceDistance', 'repulsionGain', 'maxRepulsionSpeed', 'transitionTime']) p[key].value = c[key] ?? '';
-    const noise = s.sensing?.default ?? {};
-    p.bound.value = noise.bound ?? '';
-    p.sigma.value = noise.sigma ?? '';
-    const dep = s.dependability ?? {};
-    for (const key of ['switchWindow', 'maxSwitches', 'lockTime']) p[key].value = dep[key] ?? '';
-    p.onChattering.value = dep.onChattering ?? 'stop';
-    p.controllerMessage.textContent = '';
-    p.worldMessage.textContent = '';
-    this.buildJointSliders();
-    this.refreshObstacleList();
-    this.refreshSelected();
-  }
-
-  validateDh() {
-    const p = this.panel;
-    const problems = [];
-    [...p.dh.children].forEach((tr, i) => {
-      for (const input of tr.querySelectorAll('input')) {
-        const text = input.value.trim();
-        const bad = text === '' || !Number.isFinite(Number(text));
-        input.setAttribute('aria-invalid', bad ? 'true' : 'false');
-        input.style.background = bad ? '#fff1f0' : '';
-        if (bad) problems.push(`joint ${i + 1}: ${input.dataset.k} must be a number (got "${text}")`);
-      }
-    });
-    p.dhMessage.textContent = problems.join('\n');
-  }
-
-  buildJointSliders() {
-    const p = this.panel;
-    const q0 = this.scenario.q0 ?? [];
-    p.joints.replaceChildren(...this.robotSpec.joints.map((j, i) => {
-      const lo = Number.isFinite(j.min) ? j.min : -Math.PI;
-      const hi = Number.isFinite(j.max) ? j.max : Math.PI;
-      const value = q0[i] ?? 0;
-      const out = h('output', {}, value.toFixed(2));
-      const slider = h('input', { type: 'range', id: `joint-${i}`, min: String(lo), max: String(hi), step: '0.01', value: String(value), 'aria-label': `initial joint ${i + 1}` });
-      slider.addEventListener('input', () => {
-        const q = this.robotSpec.joints.map((_, k) => this.scenario.q0?.[k] ?? 0);
-        q[i] = Number(slider.value);
-        out.textContent = q[i].toFixed(2);
-        this.rebuild({ q0: q }, p.worldMessage);
-      });
-      return h('div', { class: 'row' }, h('label', {}, `q${i + 1}`, slider, out));
-    }));
+    refreshPanel(this);
   }
 
   refreshObstacleList() {
-    const p = this.panel;
-    if (!p) return;
-    p.obstacles.replaceChildren(...(this.scenario.obstacles ?? []).map((o) => h('li', {
-      class: o.id === this.selected ? 'selected' : '',
-      onclick: () => this.select(o.id),
-    }, `${o.id} · ${o.shape?.type ?? '?'}${o.motion && o.motion.type !== 'static' ? ` · ${o.motion.type}` : ''}`)));
+    refreshObstacleList(this);
   }
 
   refreshSelected() {
-    const p = this.panel;
-    if (!p) return;
-    if (!this.selected) {
-      p.selectedBox.replaceChildren(h('p', { class: 'hint' }, 'Click an obstacle to select it; drag to move it (Alt: along the view direction).'));
-      return;
-    }
-    const shape = this.shapeOf(this.selected);
-    if (!shape) {
-      p.selectedBox.replaceChildren();
-      return;
-    }
-    const c = shapeCenter(shape);
-    const coords = c.map((x, k) => h('input', { type: 'number', step: '0.01', value: x.toFixed(3), style: 'width: 4.6rem', 'aria-label': `position ${'xyz'[k]}`, id: `pos-${'xyz'[k]}`,
-      onchange: (e) => {
-        const v = Number(e.target.value);
-        if (!Number.isFinite(v)) return;
-        const delta = [0, 0, 0];
-        delta[k] = v - c[k];
-        this.editSelected((s) => translateShape(s, delta));
-      } }));
-    const btn = (label, title, f) => h('button', { type: 'button', title, onclick: () => this.editSelected(f) }, label);
-    const z = [0, 0, 1];
-    const x = [1, 0, 0];
-    p.selectedBox.replaceChildren(
-      h('div', { class: 'row' }, h('strong', {}, this.selected), h('button', { type: 'button', id: 'delete', onclick: () => this.removeSelected() }, 'Delete')),
-      h('div', { class: 'row' }, 'centre', ...coords),
-      h('div', { class: 'row' }, 'size', btn('−', 'shrink', (s) => scaleShape(s, 0.8)), btn('+', 'grow', (s) => scaleShape(s, 1.25)),
-        'rotate z', btn('⟲', 'rotate +15° about z', (s) => rotateShape(s, z, Math.PI / 12)), btn('⟳', 'rotate −15° about z', (s) => rotateShape(s, z, -Math.PI / 12)),
-        'x', btn('⟲', 'rotate +15° about x', (s) => rotateShape(s, x, Math.PI / 12))),
-      h('pre', { class: 'hint', id: 'shape-json', style: 'white-space: pre-wrap; margin: 0.2rem 0;' }, JSON.stringify(shape, (k, v) => (typeof v === 'number' ? Number(v.toFixed(4)) : v))),
-    );
+    refreshSelected(this);
   }
 
   toggleHelp(show) {
     this.helpBox.hidden = show === undefined ? !this.helpBox.hidden : !show;
-  }
-
-  // ---- input ----
-
-  /** Canvas pixel (drawing buffer) of a pointer event. */
-  pixel(e) {
-    const r = this.canvas.getBoundingClientRect();
-    const dpr = window.devicePixelRatio || 1;
-    return [(e.clientX - r.left) * dpr, (e.clientY - r.top) * dpr];
-  }
-
-  /** Where the ray through pixel `px` meets the plane through `p0` with normal `n`. */
-  onPlane(px, p0, n) {
-    const ray = this.viewer.rayAt(px[0], px[1]);
-    const denom = dot(ray.direction, n);
-    if (Math.abs(denom) < 1e-9) return null;
-    const s = dot(sub(p0, ray.origin), n) / denom;
-    return add(ray.origin, mul(ray.direction, s));
-  }
-
-  wireInput() {
-    const canvas = this.canvas;
-    let drag = null;
-    canvas.addEventListener('contextmenu', (e) => e.preventDefault());
-    canvas.addEventListener('pointerdown', (e) => {
-      canvas.focus();
-      canvas.setPointerCapture(e.pointerId);
-      const px = this.pixel(e);
-      const camera = e.button === 2 || e.button === 1 || e.shiftKey;
-      if (!camera && e.button === 0) {
-        const ray = this.viewer.rayAt(px[0], px[1]);
-        const hit = this.guard(() => this.world.pick(ray.origin, ray.direction));
-        if (hit) {
-          this.select(hit.id);
-          const n = this.viewer.viewDirection();
-          const shape = this.shapeOf(hit.id);
-          // Metres per pixel at the picked point, for moves along the normal.
-          const a = this.onPlane(px, hit.point, n);
-          const b = this.onPlane([px[0], px[1] + 1], hit.point, n);
-          // The drag plane faces the camera through the picked point; the
-          // anchor is where the pointer's ray meets it.
-          drag = { kind: 'obstacle', id: hit.id, shape, point: a ?? hit.point, n, along: e.altKey || e.ctrlKey || e.metaKey,
-            y: px[1], mpp: a && b ? len(sub(a, b)) : 0.002, moved: false };
-          return;
-        }
-      }
-      drag = { kind: 'camera', x: e.clientX, y: e.clientY, pan: camera, moved: false };
-    });
-    const dragTo = (e) => {
-      if (!drag) return;
-      if (drag.kind === 'camera') {
-        const dpr = window.devicePixelRatio || 1;
-        const dx = (e.clientX - drag.x) * dpr;
-        const dy = (e.clientY - drag.y) * dpr;
-        drag.x = e.clientX;
-        drag.y = e.clientY;
-        if (dx || dy) drag.moved = true;
-        if (drag.pan || this.viewer.view !== '3d') this.viewer.pan(dx, dy);
-        else this.viewer.orbit(dx, dy);
-        return;
-      }
-      const px = this.pixel(e);
-      const along = e.altKey || e.ctrlKey || e.metaKey;
-      let delta;
-      if (along) {
-        delta = mul(drag.n, (px[1] - drag.y) * drag.mpp);
-      } else {
-        const p = this.onPlane(px, drag.point, drag.n);
-        if (!p) return;
-        delta = sub(p, drag.point);
-      }
-      drag.y = px[1];
-      if (len(delta) === 0) return;
-      drag.point = add(drag.point, delta);
-      drag.shape = translateShape(drag.shape, delta);
-      drag.moved = true;
-      if (!this.setShape(drag.id, drag.shape)) drag = null;
-    };
-    canvas.addEventListener('pointermove', dragTo);
-    const end = (e) => {
-      // The browser may coalesce the last moves into the release: apply it.
-      if (e.type === 'pointerup') dragTo(e);
-      if (drag?.kind === 'camera' && !drag.moved && !drag.pan) this.select(null);
-      if (drag?.kind === 'obstacle') this.refreshSelected();
-      drag = null;
-    };
-    canvas.addEventListener('pointerup', end);
-    canvas.addEventListener('pointercancel', end);
-    canvas.addEventListener('wheel', (e) => {
-      e.preventDefault();
-      this.viewer.zoom(Math.exp(e.deltaY * 0.001));
-    }, { passive: false });
-    const keys = this.options.keyboardTarget ?? this.container;
-    keys.addEventListener('keydown', (e) => this.onKey(e));
-  }
-
-  onKey(e) {
-    const t = e.composedPath?.()[0] ?? e.target;
-    if (t && ['INPUT', 'SELECT', 'TEXTAREA'].includes(t.tagName)) return;
-    if (e.ctrlKey || e.metaKey) return;
-    const views = ['3d', 'top', 'front', 'side'];
-    const handled = (() => {
-      switch (e.key) {
-        case ' ': this.toggleRun(); return true;
-        case 's': case 'S': case '.': this.singleStep(); return true;
-        case 'r': case 'R': this.reset(); return true;
-        case 'Delete': case 'Backspace': this.removeSelected(); return true;
-        case 'Escape': this.toggleHelp(false); this.select(null); return true;
-        case '?': case 'h': case 'H': this.toggleHelp(); return true;
-        case '[': this.editSelected((s) => scaleShape(s, 0.8)); return true;
-        case ']': this.editSelected((s) => scaleShape(s, 1.25)); return true;
-        case 'q': case 'Q': this.editSelected((s) => rotateShape(s, [0, 0, 1], Math.PI / 12)); return true;
-        case 'e': case 'E': this.editSelected((s) => rotateShape(s, [0, 0, 1], -Math.PI / 12)); return true;
-        case 'v': case 'V': {
-          const next = views[(views.indexOf(this.viewer.view) + 1) % views.length];
-          this.viewer.setView(next);
-          if (this.panel) this.panel.viewSelect.value = next;
-          return true;
-        }
-        default: {
-          const k = '1234567890'.indexOf(e.key);
-          if (k >= 0 && this.controls === 'full') {
-            this.addObstacle(PALETTE[k]);
-            return true;
-          }
-          return false;
-        }
-      }
-    })();
-    if (handled) e.preventDefault();
   }
 
   // ---- test hook ----
@@ -1123,6 +539,9 @@ export class Playground {
   snapshot() {
     if (!this.viewer) return { backend: null, frames: this.frames };
     const world = this.world.state();
-    return { ...this.viewer.state(), q: Array.from(world.q), world, frames: this.frames, stats: { ...this.stats }, selected: this.selected, running: this.running, speed: this.speed };
+    return { ...this.viewer.state(), q: Array.from(world.q), world, frames: this.frames, stats: { ...this.stats }, selected: this.selected, running: this.running, speed: this.speed,
+      events: this.events.snapshot(), offscreen: Boolean(this.offscreen), engaged: Boolean(this.engaged) };
   }
 }
+
+Object.assign(Playground.prototype, sceneMethods, readoutMethods);

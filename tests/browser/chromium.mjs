@@ -35,9 +35,10 @@ const WEBGPU = [
 /**
  * A fresh persistent context (its own temporary profile, removed by `close`).
  * `webgpu: false` leaves WebGPU off (WebGL2 still works through SwiftShader);
- * `extraArgs` are appended (e.g. `--disable-3d-apis` for a browser without either).
+ * `extraArgs` are appended (e.g. `--disable-3d-apis` for a browser without either);
+ * `hasTouch` makes a touch screen (for swipes and pinches).
  */
-export async function launch({ webgpu = true, extraArgs = [], viewport = { width: 1000, height: 700 } } = {}) {
+export async function launch({ webgpu = true, extraArgs = [], viewport = { width: 1000, height: 700 }, hasTouch = false } = {}) {
   const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'skeleton-chromium-'));
   const context = await chromium.launchPersistentContext(profile, {
     executablePath: CHROMIUM,
@@ -45,6 +46,7 @@ export async function launch({ webgpu = true, extraArgs = [], viewport = { width
     args: [...HYGIENE, ...(webgpu ? WEBGPU : []), ...extraArgs],
     viewport,
     deviceScaleFactor: 1,
+    hasTouch,
   });
   return {
     context,

@@ -228,7 +228,11 @@ test('npm run build: the static site in dist/ serves the docs page on its own', 
     await page.goto(`${site.url}docs.html`);
     const n = await page.evaluate(() => Promise.all([...document.querySelectorAll('skeleton-playground')].map((e) => e.ready)).then((r) => r.length));
     assert.equal(n, 3);
-    await page.waitForFunction(() => [...document.querySelectorAll('skeleton-playground')].every((e) => e.playground.snapshot().world.t > 0.1));
+    // Each widget runs once scrolled into view.
+    for (const widget of await page.locator('skeleton-playground').all()) {
+      await widget.scrollIntoViewIfNeeded();
+      await page.waitForFunction((el) => el.playground.snapshot().world.t > 0.1, await widget.elementHandle());
+    }
     await page.screenshot({ path: path.join(artifacts, 'dist-docs-page.png'), fullPage: true });
     assert.deepEqual(errors, []);
   } finally {

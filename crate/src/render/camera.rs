@@ -106,6 +106,46 @@ impl Camera {
         self.distance = 1.1 * radius / (0.5 * self.fov_y).sin();
     }
 
+    /// Aims at `points` and sets the distance so that their box, seen from
+    /// the current direction, fills `fill` (0..1) of the view's width or
+    /// height, whichever limits, for a drawing buffer of `aspect` = width /
+    /// height. The direction (yaw, pitch, view) is kept; no points, or only
+    /// non-finite ones, leave the camera as it is.
+    pub fn fit(&mut self, points: &[Vec3], aspect: f32, fill: f32) {
+        let back = self.backward();
+        let right = self.up().cross(back).normalize_or(Vec3::X);
+        let up = back.cross(right);
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for p in points.iter().filter(|p| p.is_finite()) {
+            let local = Vec3::new(p.dot(right), p.dot(up), p.dot(back));
+            lo = lo.min(local);
+            hi = hi.max(local);
+        }
+        if !(lo.is_finite() && hi.is_finite()) {
+            return;
+        }
+        let mid = 0.5 * (lo + hi);
+        let half = (0.5 * (hi - lo)).max(Vec3::splat(0.02));
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            1.0
+        };
+        let fill = fill.clamp(0.05, 1.0);
+        // Half the visible height at the target that makes the box fill `fill`.
+        let half_height = half.y.max(half.x / aspect) / fill;
+        self.target = mid.x * right + mid.y * up + mid.z * back;
+        // In perspective the near half of the box is closer to the eye: step
+        // back by its depth so that it is not drawn larger than planned.
+        let depth = if self.view == View::Orbit {
+            half.z
+        } else {
+            0.0
+        };
+        self.distance = (half_height / (0.5 * self.fov_y).tan() + depth).clamp(1e-3, 1e4);
+    }
+
     /// Unit vector from the target towards the eye.
     #[must_use]
     pub fn backward(&self) -> Vec3 {
@@ -239,6 +279,20 @@ mod tests {
                 (p[0] - 100.0).abs() < 1e-3 && (p[1] - 50.0).abs() < 1e-3,
                 "{view:?} {p:?}"
             );
+        }
+    }
+
+    #[test]
+    fn fit_fills_the_asked_fraction_of_the_limiting_side() {
+        let points = [Vec3::new(1.0, 2.0, 0.0), Vec3::new(1.6, 2.2, 0.0)];
+        for (aspect, view) in [(2.0, View::Top), (0.5, View::Top), (1.5, View::Orbit)] {
+            let mut camera = Camera::framing(Vec3::ZERO, 5.0, view);
+            camera.fit(&points, aspect, 0.6);
+            let (w, h) = (100.0 * aspect, 100.0);
+            let a = camera.project(points[0], w, h).unwrap();
+            let b = camera.project(points[1], w, h).unwrap();
+            let share = ((b[0] - a[0]).abs() / w).max((b[1] - a[1]).abs() / h);
+            assert!(share > 0.45 && share < 0.61, "{view:?} {aspect}: {share}");
         }
     }
 

@@ -288,6 +288,29 @@ fn draw_skeleton(scene: &mut Scene, skeleton: &SkeletonView, options: &DrawOptio
     }
 }
 
+/// The points a view should frame: the skeleton's nodes and the centre of
+/// every bounded obstacle part the robot can reach (within `reach` metres of
+/// `base`). Infinite planes and parts out of reach (a large floor's centre,
+/// a person walking in from afar) are left out so that the robot stays
+/// large on screen.
+#[must_use]
+pub fn fit_points(state: &DrawState, base: [f64; 3], reach: f64) -> Vec<[f64; 3]> {
+    let base = DVec3::from(base);
+    let mut points = state.skeleton.nodes.clone();
+    for o in &state.obstacles {
+        for part in o.primitives() {
+            if matches!(part, PrimitiveSpec::Plane(_)) {
+                continue;
+            }
+            let p = anchor(&part);
+            if DVec3::from(p).distance(base) <= reach {
+                points.push(p);
+            }
+        }
+    }
+    points
+}
+
 /// A representative point of a shape: its centre (the sensed position).
 #[must_use]
 pub fn anchor(shape: &PrimitiveSpec) -> [f64; 3] {

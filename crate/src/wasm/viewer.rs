@@ -405,6 +405,33 @@ impl Viewer {
         Ok(())
     }
 
+    /// Frames the scene: the camera keeps its direction and aims at the
+    /// robot's skeleton and the obstacles it can reach (centres within its
+    /// reach from the base) so that they fill about `fill` of the view's
+    /// width or height (default 0.6).
+    ///
+    /// # Errors
+    /// An `Error` unless `fill` is undefined or a number in (0, 1].
+    pub fn fit(&mut self, fill: Option<f64>) -> Result<(), JsError> {
+        let fill = finite_arg("fit.fill", fill.unwrap_or(0.6))?;
+        if !(fill > 0.0 && fill <= 1.0) {
+            return Err(JsError::new("fit.fill: must be in (0, 1]"));
+        }
+        let points = match &self.world {
+            Some(world) => super::draw::fit_points(world, self.center.to_array(), self.reach),
+            None => self.drawn_nodes(),
+        };
+        let points: Vec<Vec3> = points
+            .iter()
+            .map(|p| glam::DVec3::from(*p).as_vec3())
+            .collect();
+        let (width, height) = self.renderer.size();
+        self.camera
+            .fit(&points, width as f32 / height.max(1) as f32, fill as f32);
+        self.dirty = true;
+        Ok(())
+    }
+
     /// Sets the drawing-buffer size in pixels (CSS size × devicePixelRatio).
     ///
     /// # Errors

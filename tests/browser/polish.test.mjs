@@ -1,0 +1,236 @@
+// The playground as its users meet it (issue 11), in headless Chromium with
+// real mouse, wheel, touch and keyboard input: the view framed on load, Fit,
+// double click and Reset; events merged and the stop pinned; embedded
+// widgets that let the page scroll and start when scrolled into view; the
+// layout at 1280×800, 800×600 and 390×844; the DH editor's refusals; the
+// trace export; keyboard operation.
+//
+// Screenshots go to tests/artifacts/ (git-ignored): look at them.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import path from 'node:path';
+import { serve } from '../../scripts/serve.mjs';
+import { launch, collectErrors, frames, artifacts } from './chromium.mjs';
+
+let server;
+let baseUrl;
+
+before(async () => {
+  fs.mkdirSync(artifacts, { recursive: true });
+  ({ server, url: baseUrl } = await serve({ port: 0 }));
+});
+after(() => new Promise((resolve) => server.close(resolve)));
+
+const EXAMPLES = ['planar-transition', 'chattering', 'lwr4-elbow', 'human-panda', 'dual-arm-self'];
+const state = (page) => page.evaluate(() => window.playground.state());
+
+async function open(page, query = '') {
+  await page.goto(`${baseUrl}${query}`);
+  await page.evaluate(() => window.playground.ready);
+  await frames(page, 3);
+}
+
+/** The share of the view's width and height covered by the box of the skeleton's nodes on screen. */
+function robotCover(s) {
+  const pts = s.screenNodes.filter(Boolean);
+  const xs = pts.map((p) => p[0]);
+  const ys = pts.map((p) => p[1]);
+  return { w: (Math.max(...xs) - Math.min(...xs)) / s.width, h: (Math.max(...ys) - Math.min(...ys)) / s.height,
+    inside: pts.every(([x, y]) => x >= 0 && y >= 0 && x <= s.width && y <= s.height) };
+}
+
+/** Whether two DOM rectangles overlap. */
+const overlap = (a, b) => a && b && a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
+
+for (const backend of ['webgpu', 'webgl2']) {
+  test(`every example is framed on load at 1280×800 and 390×844; Fit, double click and Reset frame it again (${backend})`, async () => {
+    for (const [width, height] of [[1280, 800], [390, 844]]) {
+      const browser = await launch({ webgpu: true, viewport: { width, height } });
+      try {
+        const page = await browser.context.newPage();
+        const errors = collectErrors(page);
+        for (const name of EXAMPLES) {
+          await open(page, `?scenario=${name}&paused&backend=${backend}`);
+          const s = await state(page);
+          const c = robotCover(s);
+          assert.ok(c.inside, `${name} ${width}: the robot is inside the view`);
+          assert.ok(Math.max(c.w, c.h) >= 0.4, `${name} ${width}: robot covers ${c.w.toFixed(2)} × ${c.h.toFixed(2)} of the view`);
+          await page.screenshot({ path: path.join(artifacts, `fit-${backend}-${name}-${width}x${height}.png`) });
+        }
+        // Zoom far out with the wheel (the full page zooms without a click), then double click.
+        const view = page.locator('#view');
+        const box = await view.boundingBox();
+        await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+        for (let k = 0; k < 8; k++) await page.mouse.wheel(0, 400);
+        await frames(page, 2);
+        const far = robotCover(await state(page));
+        assert.ok(Math.max(far.w, far.h) < 0.3, `zoomed out: ${JSON.stringify(far)}`);
+        await page.mouse.dblclick(box.x + box.width / 2, box.y + box.height / 2);
+        await frames(page, 2);
+        assert.ok(Math.max(...Object.values(robotCover(await state(page))).filter((x) => typeof x === 'number')) >= 0.4, 'double click frames the robot');
+        if (width > 900) {
+          for (let k = 0; k < 8; k++) await page.mouse.wheel(0, 400);
+          await page.locator('#reset').click();
+          await frames(page, 2);
+          const reset = robotCover(await state(page));
+          assert.ok(Math.max(reset.w, reset.h) >= 0.4, `Reset frames the robot: ${JSON.stringify(reset)}`);
+        }
+        assert.deepEqual(errors, []);
+      } finally {
+        await browser.close();
+      }
+    }
+  });
+}
+
+test('chattering: the stop stays pinned, bursts are merged, a stopped arm logs nothing but state changes', async () => {
+  const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 } });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await open(page, '?scenario=chattering');
+    await page.waitForFunction(() => window.playground.state().world.stopped, null, { timeout: 20000 });
+    await page.waitForTimeout(2000);
+    const pinned = page.locator('.notice.pinned');
+    assert.ok(await pinned.count() >= 1, 'a pinned notice');
+    assert.ok(await page.locator('.notice.stop').isVisible(), 'the stop notice is visible 2 s after the stop');
+    assert.match(await page.locator('.notice.stop').innerText(), /robot stopped/);
+    const ev = (await state(page)).events;
+    assert.ok(ev.suppressed > 0, 'events of the stopped arm are not shown');
+    const after = ev.log.slice(ev.log.findIndex((t) => /robot stopped/.test(t)) + 1);
+    assert.ok(after.every((t) => !/segment switch|travels|arrives/.test(t)), `after the stop: ${after}`);
+    assert.ok(ev.log.every((t) => !/switchRisk|transitionStart/.test(t)), 'no raw kind names');
+    await page.screenshot({ path: path.join(artifacts, 'events-chattering.png') });
+    // The log filters, and a click moves the plots' cursor.
+    await page.locator('#log-kind').selectOption('important');
+    const shown = await page.locator('.log-row:not([hidden])').allInnerTexts();
+    assert.ok(shown.length > 0 && shown.every((t) => /stopped|chattering|error|collision/.test(t)), `filtered: ${shown}`);
+    await page.locator('.log-row.stop').click();
+    assert.equal((await state(page)).running, false, 'seeking pauses');
+    await page.locator('.notice.stop .dismiss').click();
+    assert.equal(await page.locator('.notice.stop').count(), 0, 'dismissed');
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
+
+test('docs page: the wheel scrolls the page over a widget until it is clicked; widgets start when scrolled into view', async () => {
+  const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 } });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await page.goto(`${baseUrl}docs.html`);
+    await page.evaluate(() => Promise.all([...document.querySelectorAll('skeleton-playground')].map((e) => e.ready)));
+    await frames(page, 10);
+    const times = () => page.evaluate(() => [...document.querySelectorAll('skeleton-playground')].map((e) => e.playground.snapshot().world.t));
+    const t0 = await times();
+    assert.equal(t0[t0.length - 1], 0, `the last widget waits off screen: ${t0}`);
+    const widget = page.locator('skeleton-playground').first();
+    await widget.scrollIntoViewIfNeeded();
+    const box = await widget.boundingBox();
+    const y0 = await page.evaluate(() => scrollY);
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 3);
+    for (let k = 0; k < 10; k++) await page.mouse.wheel(0, 100);
+    await page.waitForTimeout(300);
+    const y1 = await page.evaluate(() => scrollY);
+    assert.ok(y1 - y0 > 300, `the page scrolled ${y1 - y0} px`);
+    // Scroll the last widget into view: it starts.
+    await page.locator('skeleton-playground').last().scrollIntoViewIfNeeded();
+    await page.waitForFunction(() => [...document.querySelectorAll('skeleton-playground')].at(-1).playground.snapshot().world.t > 0.1, null, { timeout: 10000 });
+    // Clicked, the widget zooms instead.
+    const last = await page.locator('skeleton-playground').last().boundingBox();
+    await page.mouse.click(last.x + 30, last.y + 30);
+    const y2 = await page.evaluate(() => scrollY);
+    await page.mouse.move(last.x + last.width / 2, last.y + last.height / 3);
+    for (let k = 0; k < 5; k++) await page.mouse.wheel(0, -100);
+    await page.waitForTimeout(300);
+    assert.equal(await page.evaluate(() => scrollY), y2, 'a clicked widget keeps the wheel');
+    await page.screenshot({ path: path.join(artifacts, 'docs-wheel.png') });
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
+
+test('touch: a vertical swipe over a widget scrolls the page, a pinch zooms the view', async () => {
+  const browser = await launch({ webgpu: true, viewport: { width: 390, height: 844 }, hasTouch: true });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await page.goto(`${baseUrl}docs.html`);
+    await page.evaluate(() => Promise.all([...document.querySelectorAll('skeleton-playground')].map((e) => e.ready)));
+    const widget = page.locator('skeleton-playground').first();
+    await widget.scrollIntoViewIfNeeded();
+    await frames(page, 3);
+    const view = widget.locator('#view');
+    const box = await view.boundingBox();
+    const cdp = await page.context().newCDPSession(page);
+    // One touch event per frame, as a finger gives them.
+    const touch = async (type, points) => {
+      await cdp.send('Input.dispatchTouchEvent', { type, touchPoints: points.map(([x, y], id) => ({ x, y, id })) });
+      await page.waitForTimeout(16);
+    };
+    const x = box.x + box.width / 2;
+    const y = box.y + box.height * 0.8;
+    const y0 = await page.evaluate(() => scrollY);
+    await touch('touchStart', [[x, y]]);
+    for (let k = 1; k <= 8; k++) await touch('touchMove', [[x, y - 20 * k]]);
+    await touch('touchEnd', []);
+    await page.waitForTimeout(500);
+    const y1 = await page.evaluate(() => scrollY);
+    assert.ok(y1 - y0 > 100, `the swipe scrolled the page ${y1 - y0} px`);
+    // Pinch out in the middle of the widget: it zooms in.
+    const b2 = await view.boundingBox();
+    const [cx, cy] = [b2.x + b2.width / 2, b2.y + b2.height / 2];
+    const distance = () => page.evaluate(() => document.querySelector('skeleton-playground').playground.viewer.state());
+    const before = robotCover(await distance());
+    await touch('touchStart', [[cx - 20, cy], [cx + 20, cy]]);
+    for (let k = 1; k <= 8; k++) await touch('touchMove', [[cx - 20 - 8 * k, cy], [cx + 20 + 8 * k, cy]]);
+    await touch('touchEnd', []);
+    await frames(page, 3);
+    const after = robotCover(await distance());
+    assert.ok(after.w > before.w * 1.3 || after.h > before.h * 1.3, `pinch zoomed: ${JSON.stringify(before)} → ${JSON.stringify(after)}`);
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
+
+test('layout at 1280×800, 800×600 and 390×844: nothing overlaps, the panel becomes a drawer on phones', async () => {
+  for (const [width, height] of [[1280, 800], [800, 600], [390, 844]]) {
+    const browser = await launch({ webgpu: true, viewport: { width, height } });
+    try {
+      const page = await browser.context.newPage();
+      const errors = collectErrors(page);
+      await open(page, '?scenario=lwr4-elbow');
+      await page.waitForFunction(() => window.playground.state().world.controlPoints.length > 0, null, { timeout: 20000 });
+      await frames(page, 12);
+      const rect = (sel) => page.locator(sel).first().boundingBox();
+      const [view, hud, stats, notices] = [await rect('#view'), await rect('#hud'), await rect('#stats'), await rect('#notices')];
+      assert.ok(view.width >= 300, `view ${view.width} px wide`);
+      assert.ok(!overlap(hud, stats), 'HUD and stats apart');
+      assert.ok(!overlap(hud, notices) && !overlap(stats, notices), 'notices apart');
+      const pageHeight = await page.evaluate(() => document.documentElement.scrollHeight);
+      assert.ok(pageHeight <= height, `page ${pageHeight} px tall`);
+      for (const sel of ['#hud', '#stats']) {
+        const r = await rect(sel);
+        assert.ok(r.x >= view.x && r.x + r.width <= view.x + view.width + 1, `${sel} inside the view`);
+      }
+      if (width < 900) {
+        assert.equal(await page.locator('#panel').isVisible(), false, 'the panel is a closed drawer');
+        await page.locator('#panel-toggle').click();
+        await page.waitForTimeout(300);
+        assert.ok(await page.locator('#panel').isVisible(), 'the drawer opens');
+        await page.screenshot({ path: path.join(artifacts, `layout-${width}x${height}-drawer.png`) });
+        await page.locator('#panel-toggle').click();
+        await page.waitForTimeout(300);
+      }
+      await page.screenshot({ path: path.join(artifacts, `layout-${width}x${height}.png`) });
+      assert.deepEqual(errors, []);
+    } finally {
+      await browser.close();
+    }
+  }
+});

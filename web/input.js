@@ -1,0 +1,193 @@
+// Pointer, wheel, touch and keyboard input of the widget's view.
+//
+// An embedded widget must not trap the page: the wheel zooms only with
+// Ctrl/⌘ held or once the view was clicked (until it loses focus), a hint
+// says so otherwise; on touch screens vertical swipes scroll the page
+// (`touch-action: pan-y`), horizontal drags orbit, two fingers pinch-zoom
+// and pan. A double click (or F) frames the scene.
+import { PALETTE, add, dot, len, mul, rotateShape, scaleShape, sub, translateShape } from './shapes.js';
+
+
+/** Canvas pixel (drawing buffer) of a pointer event. */
+function pixel(canvas, e) {
+  const r = canvas.getBoundingClientRect();
+  const dpr = window.devicePixelRatio || 1;
+  return [(e.clientX - r.left) * dpr, (e.clientY - r.top) * dpr];
+}
+
+/** Where the ray through pixel `px` meets the plane through `p0` with normal `n`. */
+function onPlane(viewer, px, p0, n) {
+  const ray = viewer.rayAt(px[0], px[1]);
+  const denom = dot(ray.direction, n);
+  if (Math.abs(denom) < 1e-9) return null;
+  const s = dot(sub(p0, ray.origin), n) / denom;
+  return add(ray.origin, mul(ray.direction, s));
+}
+
+/** A drag that starts on an obstacle: it moves on the plane facing the camera. */
+function obstacleDrag(pg, px, hit, e) {
+  const viewer = pg.viewer;
+  const n = viewer.viewDirection();
+  // Metres per pixel at the picked point, for moves along the normal.
+  const a = onPlane(viewer, px, hit.point, n);
+  const b = onPlane(viewer, [px[0], px[1] + 1], hit.point, n);
+  return { kind: 'obstacle', id: hit.id, shape: pg.shapeOf(hit.id), point: a ?? hit.point, n,
+    y: px[1], mpp: a && b ? len(sub(a, b)) : 0.002, moved: false, along: e.altKey };
+}
+
+function moveObstacle(pg, drag, e) {
+  const px = pixel(pg.canvas, e);
+  let delta;
+  if (e.altKey || e.ctrlKey || e.metaKey) {
+    delta = mul(drag.n, (px[1] - drag.y) * drag.mpp);
+  } else {
+    const p = onPlane(pg.viewer, px, drag.point, drag.n);
+    if (!p) return true;
+    delta = sub(p, drag.point);
+  }
+  drag.y = px[1];
+  if (len(delta) === 0) return true;
+  drag.point = add(drag.point, delta);
+  drag.shape = translateShape(drag.shape, delta);
+  drag.moved = true;
+  return pg.setShape(drag.id, drag.shape);
+}
+
+export function wireInput(pg) {
+  const canvas = pg.canvas;
+  const pointers = new Map();
+  let drag = null;
+  let pinch = null;
+  const dpr = () => window.devicePixelRatio || 1;
+  const pinchState = () => {
+    const [a, b] = [...pointers.values()];
+    return { d: Math.hypot(a.x - b.x, a.y - b.y), x: (a.x + b.x) / 2, y: (a.y + b.y) / 2 };
+  };
+  canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+  canvas.addEventListener('pointerdown', (e) => {
+    canvas.focus({ preventScroll: true });
+    pg.engaged = true;
+    pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+    if (pointers.size === 2) {
+      // A second finger: the gesture becomes a pinch (zoom) with a two-finger pan.
+      drag = null;
+      pinch = pinchState();
+      return;
+    }
+    if (pointers.size > 2) return;
+    canvas.setPointerCapture?.(e.pointerId);
+    const px = pixel(canvas, e);
+    const camera = e.button === 2 || e.button === 1 || e.shiftKey;
+    if (!camera && e.button === 0) {
+      const ray = pg.viewer.rayAt(px[0], px[1]);
+      const hit = pg.guard(() => pg.world.pick(ray.origin, ray.direction));
+      if (hit) {
+        pg.select(hit.id);
+        drag = obstacleDrag(pg, px, hit, e);
+        return;
+      }
+    }
+    drag = { kind: 'camera', x: e.clientX, y: e.clientY, pan: camera, moved: false };
+  });
+  const dragTo = (e) => {
+    if (pointers.has(e.pointerId)) pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+    if (pinch && pointers.size === 2) {
+      const now = pinchState();
+      if (now.d > 1 && pinch.d > 1) pg.viewer.zoom(pinch.d / now.d);
+      pg.viewer.pan((now.x - pinch.x) * dpr(), (now.y - pinch.y) * dpr());
+      pg.cameraMoved();
+      pinch = now;
+      return;
+    }
+    if (!drag) return;
+    if (drag.kind === 'camera') {
+      const dx = (e.clientX - drag.x) * dpr();
+      const dy = (e.clientY - drag.y) * dpr();
+      drag.x = e.clientX;
+      drag.y = e.clientY;
+      if (!dx && !dy) return;
+      drag.moved = true;
+      if (drag.pan || pg.viewer.view !== '3d') pg.viewer.pan(dx, dy);
+      else pg.viewer.orbit(dx, dy);
+      pg.cameraMoved();
+      return;
+    }
+    if (!moveObstacle(pg, drag, e)) drag = null;
+  };
+  canvas.addEventListener('pointermove', dragTo);
+  const end = (e) => {
+    // The browser may coalesce the last moves into the release: apply it.
+    if (e.type === 'pointerup' && !pinch) dragTo(e);
+    pointers.delete(e.pointerId);
+    if (pinch) {
+      if (pointers.size < 2) pinch = null;
+      drag = null;
+      return;
+    }
+    if (drag?.kind === 'camera' && !drag.moved && !drag.pan && e.type === 'pointerup') pg.select(null);
+    if (drag?.kind === 'obstacle') pg.refreshSelected();
+    drag = null;
+  };
+  canvas.addEventListener('pointerup', end);
+  canvas.addEventListener('pointercancel', end);
+  canvas.addEventListener('dblclick', (e) => {
+    e.preventDefault();
+    pg.fit();
+  });
+  canvas.addEventListener('blur', () => { pg.engaged = pg.options.captureWheel ?? false; });
+  canvas.addEventListener('wheel', (e) => {
+    if (!(pg.engaged || e.ctrlKey || e.metaKey)) {
+      // Let the page scroll; say how to zoom.
+      pg.hint('Click the view (or hold Ctrl) to zoom with the wheel');
+      return;
+    }
+    e.preventDefault();
+    // A pinch on a touchpad arrives as a Ctrl + wheel with small deltas.
+    pg.viewer.zoom(Math.exp(e.deltaY * (e.ctrlKey ? 0.01 : 0.001)));
+    pg.cameraMoved();
+  }, { passive: false });
+  const keys = pg.options.keyboardTarget ?? pg.container;
+  keys.addEventListener('keydown', (e) => onKey(pg, e));
+}
+
+const VIEWS = ['3d', 'top', 'front', 'side'];
+
+function nextView(pg) {
+  const next = VIEWS[(VIEWS.indexOf(pg.viewer.view) + 1) % VIEWS.length];
+  pg.viewer.setView(next);
+  pg.fit();
+  if (pg.panel) pg.panel.viewSelect.value = next;
+}
+
+/** The widget's keys (see the help box); keys typed into a field or on a button are theirs. */
+export function onKey(pg, e) {
+  const t = e.composedPath?.()[0] ?? e.target;
+  if (t && ['INPUT', 'SELECT', 'TEXTAREA'].includes(t.tagName)) return;
+  // Space and Enter press a focused button (or pick a focused list entry).
+  if (t && (t.tagName === 'BUTTON' || t.tagName === 'LI' || t.tagName === 'SUMMARY') && (e.key === ' ' || e.key === 'Enter')) return;
+  if (e.ctrlKey || e.metaKey || e.altKey) return;
+  const actions = {
+    ' ': () => pg.toggleRun(),
+    s: () => pg.singleStep(),
+    '.': () => pg.singleStep(),
+    r: () => pg.reset(),
+    f: () => pg.fit(),
+    Delete: () => pg.removeSelected(),
+    Backspace: () => pg.removeSelected(),
+    Escape: () => { pg.toggleHelp(false); pg.select(null); },
+    '?': () => pg.toggleHelp(),
+    h: () => pg.toggleHelp(),
+    '[': () => pg.editSelected((s) => scaleShape(s, 0.8)),
+    ']': () => pg.editSelected((s) => scaleShape(s, 1.25)),
+    q: () => pg.editSelected((s) => rotateShape(s, [0, 0, 1], Math.PI / 12)),
+    e: () => pg.editSelected((s) => rotateShape(s, [0, 0, 1], -Math.PI / 12)),
+    v: () => nextView(pg),
+  };
+  const key = e.key.length === 1 ? e.key.toLowerCase() : e.key;
+  let action = actions[key];
+  const k = '1234567890'.indexOf(e.key);
+  if (!action && k >= 0 && pg.controls === 'full') action = () => pg.addObstacle(PALETTE[k]);
+  if (!action) return;
+  e.preventDefault();
+  action();
+}

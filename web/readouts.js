@@ -1,0 +1,86 @@
+// What the widget reads out of the world each frame, as methods mixed into
+// the Playground: the plots' samples, the events, the text over the view,
+// and the plots' cursor moved to an event.
+import { robotRows } from './panel.js';
+
+export const readoutMethods = {
+  /** The influence distance in force (m): the scenario's or the library's default. */
+  influence() {
+    return this.scenario.controller?.influenceDistance ?? 0.15;
+  },
+
+  record() {
+    const s = this.state;
+    const t = s.t;
+    this.trace.push(s);
+    // Beyond the influence distance the world does not measure: the line
+    // stays at the influence distance, drawn dashed, and the HUD says "beyond".
+    const far = !Number.isFinite(s.minClearance);
+    this.plots.clearance.push('min', t, far ? this.influence() : s.minClearance, { far });
+    // One line per obstacle (and per control point on it), so colours stay with their obstacle.
+    const seen = new Map();
+    for (const cp of s.controlPoints) {
+      const k = (seen.get(cp.obstacle) ?? 0) + 1;
+      seen.set(cp.obstacle, k);
+      this.plots.clearance.push(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, t, cp.distance);
+    }
+    const cp = s.controlPoints.find((c) => c.transitioning) ?? s.controlPoints[0];
+    const rows = robotRows(this.robotSpec ?? { joints: [] }).filter((r) => r.chain === 'main');
+    const anyD = rows.some((r) => r.joint.d !== 0);
+    rows.forEach(({ joint: j }, i) => {
+      const row = i + 1;
+      const value = (full, cut) => (!cp ? NaN : row < cp.link ? full : row === cp.link ? cut : 0);
+      this.plots.dh.push(`a${row}`, t, value(j.a, cp?.a));
+      if (anyD) this.plots.dh.push(`d${row}`, t, value(j.d, cp?.d));
+    });
+    Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
+  },
+
+  showEvents() {
+    // `state(since)` returns the events from index `since` on (a binding
+    // without the cursor returns them all).
+    let events = this.state.events ?? [];
+    const total = typeof this.world.eventCount === 'number' ? this.world.eventCount : events.length;
+    if (events.length === total) events = events.slice(this.seenEvents);
+    this.events.push(events);
+    this.trace.events(events);
+    this.seenEvents = total;
+  },
+
+  refreshHud() {
+    const s = this.state;
+    const st = this.stats;
+    this.statsBox.textContent = `${st.fps.toFixed(0)} fps  ${st.frameMs.toFixed(1)} ms/frame\n`
+      + `${st.stepsPerFrame} steps/frame (${(1 / this.scenario.dt).toFixed(0)} Hz × ${this.speed.toFixed(2)})\n`
+      + `step ${st.stepMs.toFixed(2)} ms  draw ${st.drawMs.toFixed(2)} ms  ${this.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}`;
+    this.hud.textContent = hudLines(s, this.running, this.influence()).join('\n');
+  },
+
+  /** Moves the plots' cursor to time `t` (s) and pauses, so the moment can be read. */
+  seek(t) {
+    if (this.running) this.toggleRun();
+    for (const plot of Object.values(this.plots)) plot.mark(t);
+    this.seekPending = true;
+    this.setStatus(`Plots marked at t = ${t.toFixed(3)} s.`);
+  },
+};
+
+const ms = (x) => `${(x * 1000).toFixed(0)} mm`;
+
+/** The text over the view: time and state, clearance, time to collision, control points. */
+function hudLines(s, running, influence) {
+  const ttc = s.timeToCollision;
+  let ttcText = '—  (nothing closing in)';
+  if (Number.isFinite(ttc)) ttcText = ttc > 10 ? '> 10 s' : `${ttc.toFixed(2)} s`;
+  const lines = [
+    `t ${s.t.toFixed(3)} s${s.stopped ? '  STOPPED' : running ? '' : '  paused'}`,
+    `min clearance ${Number.isFinite(s.minClearance) ? ms(s.minClearance) : `> ${ms(influence)} (influence)`}`,
+    `time to collision ${ttcText}`,
+  ];
+  s.controlPoints.slice(0, 3).forEach((cp, i) => {
+    let text = `cp${i + 1} link ${cp.link}  d' ${cp.d.toFixed(3)}  a' ${cp.a.toFixed(3)} m`;
+    if (cp.transitioning && cp.target) text += `\n    → link ${cp.target.link} (${cp.target.d.toFixed(3)}, ${cp.target.a.toFixed(3)})`;
+    lines.push(text);
+  });
+  return lines;
+}

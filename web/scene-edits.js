@@ -1,0 +1,150 @@
+// The scene's edits and its ways out of the page, as methods mixed into the
+// Playground: obstacles added, moved, resized, deleted, selected; the scene
+// as a scenario (Save, Share, a shared link, a file).
+import { clone, errorText, h } from './dom.js';
+import { decodeShare, encodeShare, readScenarioFile } from './scenario-io.js';
+import { add, defaultShape, isPoint, len, mul, sub, translateShape } from './shapes.js';
+
+export const sceneMethods = {
+  /**
+   * The scene as a scenario. By default it is the scene as it is now: the
+   * current joints become `q0` and every obstacle is where it is now (a
+   * moving one continues its motion from there). With `asEdited`, `q0` and
+   * the moving obstacles are those of the scenario as loaded and edited.
+   */
+  currentScenario({ keepQ0 = false, asEdited = keepQ0 } = {}) {
+    const s = clone(this.scenario);
+    const state = this.world.state();
+    const shapes = new Map(state.obstacles.map((o) => [o.id, o.shape]));
+    s.obstacles = (s.obstacles ?? []).map((o) => {
+      const moving = o.motion && o.motion.type !== 'static';
+      if (!shapes.has(o.id) || (moving && asEdited)) return o;
+      let shape = clone(shapes.get(o.id));
+      // A waypoint motion starts at its first point: start it from here.
+      if (moving && o.motion.type === 'waypoints' && isPoint(o.motion.points?.[0])) shape = translateShape(shape, mul(o.motion.points[0], -1));
+      return { ...o, shape };
+    });
+    if (!keepQ0) s.q0 = Array.from(state.q);
+    return s;
+  },
+
+  async loadFile(file) {
+    if (!file) return;
+    try {
+      const scenario = await readScenarioFile(file);
+      this.loadScenario(scenario, `file "${file.name}"`);
+    } catch (err) {
+      this.showError(`${errorText(err)}\nThe current scene is unchanged.`);
+    } finally {
+      if (this.panel) this.panel.file.value = '';
+    }
+  },
+
+  /** A URL that restores the current scene exactly. */
+  shareUrl() {
+    const url = new URL(location.href);
+    url.hash = encodeShare(this.currentScenario());
+    return url.href;
+  },
+
+  /**
+   * Copies a link to the scene as it is now and shows it in the panel. The
+   * address bar is left alone, so a reload never brings back a stale scene.
+   */
+  share() {
+    const url = this.shareUrl();
+    const show = (said) => {
+      if (!this.panel) return;
+      const field = h('input', { type: 'text', readonly: true, value: url, id: 'share-link', 'aria-label': 'link to this scene', onfocus: (e) => e.target.select() });
+      this.panel.status.replaceChildren(said, field);
+    };
+    show('Link to this scene:');
+    navigator.clipboard?.writeText(url).then(() => show('Link copied:'), () => {});
+    return url;
+  },
+
+  /** Drops a `#scenario=` the scene no longer matches from the address bar. */
+  forgetShareLink() {
+    if (!this.fromShareLink || !location.hash.startsWith('#scenario=')) return;
+    this.fromShareLink = false;
+    history.replaceState(null, '', location.pathname + location.search);
+    this.lastHash = '';
+  },
+
+  /** Loads the scenario carried by a URL fragment; returns false when there is none. */
+  loadHash(hash) {
+    let scenario;
+    try {
+      scenario = decodeShare(hash);
+    } catch (err) {
+      this.showError(`${errorText(err)}\nThe current scene is unchanged.`);
+      return true;
+    }
+    if (!scenario) return false;
+    this.fromShareLink = !this.loadScenario(scenario, 'shared scenario') && Boolean(this.options.share);
+    return true;
+  },
+
+  nextId(type) {
+    const ids = new Set((this.scenario.obstacles ?? []).map((o) => o.id));
+    for (let k = 1; ; k++) if (!ids.has(`${type}-${k}`)) return `${type}-${k}`;
+  },
+
+  /** Adds an obstacle of `type` in front of the arm; returns its id (or null). */
+  addObstacle(type) {
+    const nodes = this.state.skeleton.nodes;
+    const base = nodes[0];
+    const reach = Math.max(0.2, ...nodes.map((n) => len(sub(n, base))));
+    const planar = nodes.every((n) => Math.abs(n[2] - base[2]) < 1e-9);
+    const k = (this.scenario.obstacles ?? []).length;
+    const c = add(base, [0.55 * reach, (0.35 - 0.18 * (k % 5)) * reach, planar ? 0 : 0.5 * reach]);
+    const id = this.nextId(type);
+    const spec = { id, shape: defaultShape(type, c, reach) };
+    const ok = this.guard(() => { this.world.addObstacle(spec); return true; });
+    if (!ok) return null;
+    this.edited = true;
+    this.scenario.obstacles = [...(this.scenario.obstacles ?? []), spec];
+    this.forgetShareLink();
+    this.select(id);
+    this.setStatus(`Added ${id}.`);
+    return id;
+  },
+
+  removeSelected() {
+    const id = this.selected;
+    if (!id) return;
+    if (!this.guard(() => { this.world.removeObstacle(id); return true; })) return;
+    this.edited = true;
+    this.scenario.obstacles = this.scenario.obstacles.filter((o) => o.id !== id);
+    this.forgetShareLink();
+    this.select(null);
+    this.setStatus(`Deleted ${id}.`);
+  },
+
+  shapeOf(id) {
+    return this.world.state(this.world.eventCount).obstacles.find((o) => o.id === id)?.shape;
+  },
+
+  /** Replaces the shape of obstacle `id`; returns false (message shown) on error. */
+  setShape(id, shape) {
+    const ok = this.guard(() => { this.world.setObstacleShape(id, shape); return true; });
+    if (!ok) return false;
+    this.edited = true;
+    this.scenario.obstacles = this.scenario.obstacles.map((o) => (o.id === id ? { ...o, shape: clone(shape) } : o));
+    this.forgetShareLink();
+    return true;
+  },
+
+  editSelected(f) {
+    if (!this.selected) return;
+    const shape = this.shapeOf(this.selected);
+    if (shape && this.setShape(this.selected, f(shape))) this.refreshSelected();
+  },
+
+  select(id) {
+    this.selected = id;
+    this.viewer.setSelected(id);
+    this.refreshObstacleList();
+    this.refreshSelected();
+  },
+};
