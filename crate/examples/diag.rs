@@ -18,6 +18,14 @@ fn main() {
                 println!("step {k} t {:.3} joint {i} q {:.5} v {:.4} acc {:.1} lim {} qdot_state {:.4} min {:.4} max {:.4} stopped {}", w.time(), q[i], v[i], a, robot.joints[i].max_acceleration, w.motion().qdot[i], robot.joints[i].min, robot.joints[i].max, w.is_stopped());
             }
         }
+        let st = w.state();
+        if let Some(c) = st.min_clearance { if c < 0.03 && k % 5 == 0 { println!("t {:.3} clearance {:.4} maxv {:.3} pts {:?}", w.time(), c, v.iter().fold(0.0f64, |m, x| m.max(x.abs())), st.control_points.iter().map(|p| (p.obstacle.clone(), (p.distance*1000.0).round())).collect::<Vec<_>>()); } }
+        if w.time() > 0.6 && w.time() < 0.67 && k % 5 == 0 {
+            for g in w.guards().iter().filter(|g| g.distance < 0.03) {
+                let rv: f64 = g.row.iter().zip(&v).map(|(a, b)| a * b).sum();
+                println!("   guard seg {} d {:.4} bound {:.4} row·v {:.4} row·qdot {:.4}", g.segment, g.distance, g.bound, rv, g.row.iter().zip(&w.motion().qdot).map(|(a, b)| a * b).sum::<f64>());
+            }
+        }
         prev_q = q; prev_v = v;
     }
     for e in w.events().iter().take(30) { println!("{:.3} {:?}", e.t, e.kind); }

@@ -169,19 +169,40 @@ const LIMIT_MARGIN: f64 = 1e-4;
 /// `target` within every joint limit (see the module docs); returns the new
 /// joint motion in place.
 pub fn step(robot: &Robot, q: &[f64], target: &[f64], motion: &mut JointMotion, dt: f64) {
-    step_capped(robot, q, target, motion, dt, f64::INFINITY);
+    step_with(robot, q, target, motion, dt, &StepOptions::default());
 }
 
-/// [`step`] with every joint's acceleration further capped at
-/// `max_acceleration` (a stop's deceleration).
-pub fn step_capped(
+/// Options of [`step_with`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepOptions {
+    /// Every joint's acceleration further capped at this (a stop's
+    /// deceleration; default none).
+    pub max_acceleration: f64,
+    /// Whether the joints approach the target together along a straight
+    /// line (default); `false` lets each joint use its full limits (an
+    /// emergency brake of the protective layer: fastest, not straight).
+    pub synchronise: bool,
+}
+
+impl Default for StepOptions {
+    fn default() -> Self {
+        Self {
+            max_acceleration: f64::INFINITY,
+            synchronise: true,
+        }
+    }
+}
+
+/// [`step`] with options.
+pub fn step_with(
     robot: &Robot,
     q: &[f64],
     target: &[f64],
     motion: &mut JointMotion,
     dt: f64,
-    max_acceleration: f64,
+    options: &StepOptions,
 ) {
+    let max_acceleration = options.max_acceleration;
     let n = robot.dof();
     if motion.qdot.len() != n || motion.qddot.len() != n {
         *motion = JointMotion::rest(n);
@@ -213,7 +234,7 @@ pub fn step_capped(
         let limit = j.max_acceleration.min(max_acceleration);
         let (v, a) = (motion.qdot[i], motion.qddot[i]);
         let e = want[i] - v;
-        let share = if braking[i] {
+        let share = if braking[i] || !options.synchronise {
             1.0
         } else if longest > 0.0 {
             share_for(e, limit, j.max_jerk, longest)

@@ -5,14 +5,15 @@
 //! distance — selected or not, travelling control point or not — carries a
 //! hard bound on how fast the arm may close the gap (a *guard*):
 //!
-//! `nᵀ J_θ q̇ ≤ (d − d_s − v_h (T_r + T_s)) / (T_r + T_s / 2)`
+//! `nᵀ J_θ q̇ ≤ (d − d_s − v_h (T_r + T_s)) / (T_r + m T_s / 2)`
 //!
 //! where `n` is the unit direction from the arm towards the obstacle at the
 //! pair's witness, `J_θ` the position Jacobian of that (material) point,
 //! `d` the clearance (sensing margin subtracted), `d_s` the safety distance,
 //! `v_h` the obstacle's own approach speed, `T_r` the reaction time and
 //! `T_s` the time the joints need to stop from their current motion within
-//! their acceleration and jerk limits ([`super::limits::braking_time`]).
+//! their acceleration and jerk limits ([`super::limits::braking_time`]),
+//! with a margin `m` ([`BRAKING_MARGIN`]).
 //!
 //! This is the velocity damper of Faverjon & Tournassoud (the form QP
 //! controllers such as NEO use), with its gain chosen so that the distance
@@ -36,6 +37,12 @@
 //! retreat fast enough, or two obstacles squeeze it) the result says which
 //! guard is violated, and the world stops the arm ([`super`]'s
 //! `unavoidable` event).
+//!
+//! The guards bound the *requested* velocity; the joints reach it within
+//! their acceleration limits. Should the arm's actual approach speed still
+//! exceed a guard ([`Guard::breached`]), the world brakes at once with every
+//! joint at its full deceleration (the emergency brake of the limiter,
+//! not synchronised) until the guards hold again.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -86,9 +93,16 @@ impl ProtectiveConfig {
     pub fn bound(&self, distance: f64, obstacle_speed: f64, braking: f64) -> f64 {
         let reach = self.reaction_time + braking;
         let room = distance - self.safety_distance - obstacle_speed.max(0.0) * reach;
-        room / (self.reaction_time + 0.5 * braking).max(1e-3)
+        room / (self.reaction_time + BRAKING_MARGIN * 0.5 * braking).max(1e-3)
     }
 }
+
+/// Factor on the braking distance `v T_s / 2` in the guards: the limiter
+/// approaches a new command along a straight line in joint space, which
+/// reduces a pair's approach speed more slowly than a dedicated stop would;
+/// doubling the budget keeps the guards ahead of that lag (measured on the
+/// shipped examples and the approach sweep of `tests/motion_limits.rs`).
+pub const BRAKING_MARGIN: f64 = 2.0;
 
 /// One bound `row · q̇ ≤ bound` on the approach of a pair.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -179,6 +193,16 @@ pub fn guards(
         });
     }
     Ok(())
+}
+
+impl Guard {
+    /// Whether the arm's current approach speed, with joint velocities
+    /// `qdot`, exceeds this guard's bound.
+    #[must_use]
+    pub fn breached(&self, qdot: &[f64]) -> bool {
+        let v: f64 = self.row.iter().zip(qdot).map(|(r, q)| r * q).sum();
+        v > 0.0 && v > self.bound + GUARD_TOLERANCE
+    }
 }
 
 /// The outcome of [`project`].

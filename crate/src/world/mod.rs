@@ -92,6 +92,7 @@ pub struct World {
     guards: Vec<Guard>,
     guard_pairs: Vec<GuardPair>,
     request: Vec<f64>,
+    braking: bool,
     stopped: bool,
     stop_reason: Option<StopReason>,
     stopped_until: f64,
@@ -172,6 +173,7 @@ impl World {
             guards: Vec::new(),
             guard_pairs: Vec::new(),
             request: Vec::new(),
+            braking: false,
             stopped: false,
             stop_reason: None,
             stopped_until: 0.0,
@@ -261,6 +263,12 @@ impl World {
     #[must_use]
     pub fn is_stopped(&self) -> bool {
         self.stopped
+    }
+
+    /// The protective layer's guards of the last step.
+    #[must_use]
+    pub fn guards(&self) -> &[Guard] {
+        &self.guards
     }
 
     /// Joint velocities and accelerations.

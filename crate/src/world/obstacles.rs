@@ -42,11 +42,23 @@ impl ObstacleState {
             .map_or(DVec3::ZERO, |m| m.offset(t, self.reference))
     }
 
-    /// Velocity of its motion at `t` (m/s), over the step `dt` ahead.
+    /// Velocity of its motion at `t` (m/s): the smaller of the forward and
+    /// the backward difference over `dt`, so that a jump of a waypoint
+    /// motion (an obstacle that appears elsewhere) is not read as an
+    /// approach speed.
     pub(super) fn velocity(&self, t: f64, dt: f64) -> DVec3 {
         match &self.spec.motion {
             None | Some(crate::scenario::Motion::Static) => DVec3::ZERO,
-            Some(_) => (self.offset(t + dt) - self.offset(t)) / dt,
+            Some(_) => {
+                let now = self.offset(t);
+                let ahead = (self.offset(t + dt) - now) / dt;
+                let behind = (now - self.offset((t - dt).max(0.0))) / dt;
+                if t < dt || ahead.length_squared() <= behind.length_squared() {
+                    ahead
+                } else {
+                    behind
+                }
+            }
         }
     }
 

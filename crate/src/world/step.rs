@@ -302,6 +302,12 @@ impl World {
             floor,
             &mut guards,
         )?;
+        // Emergency brake: the arm already closes in faster than a guard
+        // allows (the limiter lags a sudden change of the guards).
+        self.braking = guards.iter().any(|g| g.breached(&self.motion.qdot));
+        if self.braking {
+            self.request.iter_mut().for_each(|v| *v = 0.0);
+        }
         let all_hold = self.guard_pairs.iter().all(|g| {
             p.bound(g.distance, g.obstacle_speed, braking) >= 0.0
         });
@@ -344,12 +350,15 @@ impl World {
     fn limit_and_integrate(&mut self, dt: f64) {
         self.step_t = self.t;
         self.step_q.clone_from(&self.q);
-        let cap = if self.stopped {
-            self.scenario.dependability.max_deceleration
-        } else {
-            f64::INFINITY
+        let options = limits::StepOptions {
+            max_acceleration: if self.stopped {
+                self.scenario.dependability.max_deceleration
+            } else {
+                f64::INFINITY
+            },
+            synchronise: !self.braking,
         };
-        limits::step_capped(&self.robot, &self.q, &self.request, &mut self.motion, dt, cap);
+        limits::step_with(&self.robot, &self.q, &self.request, &mut self.motion, dt, &options);
         for (q, v) in self.q.iter_mut().zip(&self.motion.qdot) {
             *q += v * dt;
         }
