@@ -20,7 +20,11 @@ pub(super) struct ObstacleState {
 }
 
 impl ObstacleState {
-    pub(super) fn new(spec: ObstacleSpec, scenario: &Scenario, index: usize) -> Result<Self, FieldError> {
+    pub(super) fn new(
+        spec: ObstacleSpec,
+        scenario: &Scenario,
+        index: usize,
+    ) -> Result<Self, FieldError> {
         let parts = primitives(&spec.shape).map_err(|e| e.within("shape"))?;
         let s = scenario.sensing.for_obstacle(&spec.id);
         let bound = s.bound.unwrap_or(0.0);
@@ -72,7 +76,6 @@ impl ObstacleState {
     }
 }
 
-
 impl World {
     /// The *sense* stage: the scene of the obstacles at time `t`, displaced
     /// by their sensing errors when `sensed`.
@@ -119,7 +122,11 @@ impl World {
 
     /// Distance from `p` to obstacle `o` as sensed (its closest part):
     /// distance, unit normal from `p` towards it, witness on it.
-    pub(super) fn point_distance(&self, o: usize, p: DVec3) -> Result<(f64, DVec3, DVec3), FieldError> {
+    pub(super) fn point_distance(
+        &self,
+        o: usize,
+        p: DVec3,
+    ) -> Result<(f64, DVec3, DVec3), FieldError> {
         let me = Primitive::Point(p);
         let mut best: Option<(f64, DVec3, DVec3)> = None;
         // `owners` is sorted: obstacle o's parts are one contiguous run.
@@ -146,5 +153,4 @@ impl World {
         }
         best.map(|b| b.1)
     }
-
 }
