@@ -17,20 +17,25 @@
 //! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, URDF import, forward kinematics, IK | §II, §III |
 //! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
 //! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives | §III-A, eq. 2–4 |
-//! | [`transition`] | a control point travelling along the skeleton through the nodes, one cubic per DH value | §III-B, fig. 5 |
-//! | [`avoidance`] | control-point selection, potential-field repulsion, velocity / torque / second-order CLIK controllers with task priority | §II, §III-A |
+//! | [`transition`] | a control point travelling along the skeleton through the nodes, one quintic per DH value (C2) | §III-B, fig. 5 |
+//! | [`avoidance`] | control-point selection, repulsion, velocity / torque / second-order CLIK controllers with task priority and joint weights, the protective layer (guards solved as a small QP) and the jerk-limited joint limiter | §II, §III-A |
 //! | [`dependability`] | sensing errors, margin propagation, switch risk, chattering (stop or lock), time to collision, events | §IV |
-//! | [`scenario`] | scenario and trace types, validation with JSON paths, the shipped examples | — |
-//! | [`world`] | a live simulation: stepping, obstacle edits, picking, `simulate` | — |
+//! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples | — |
+//! | [`world`] | a live simulation: the control step as a pipeline of stages, obstacle edits, picking, `simulate` | — |
 //! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
 //! | [`distance`] | primitives, closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
 //! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
 //! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground | — |
 //!
-//! One control step: forward kinematics (one pass over the chain, every frame
-//! and its velocity) → skeleton → distances from every segment to nearby
-//! obstacles → control points as DH values → their Jacobians, read from the
-//! same pass → repulsion and task → joint velocities or torques.
+//! One control step is a pipeline (table in [`world`]): **sense** (obstacles
+//! as sensed) → **scene query** (forward kinematics in one pass, skeleton,
+//! distances from every segment to nearby obstacles) → **select** (control
+//! points as DH values) → **transition** (points travel along the skeleton
+//! when the selection jumps) → **monitor** (switch risk, chattering, time to
+//! collision) → **control** (repulsion and tasks → requested joint
+//! velocities) → **protect** (every pair's approach bounded so the arm can
+//! stop before contact) → **limit** (jerk-limited tracking within the
+//! joints' velocity, acceleration, jerk and position limits) → **integrate**.
 //!
 //! ## Conventions
 //!
