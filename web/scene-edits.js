@@ -97,9 +97,8 @@ export const sceneMethods = {
     const reach = Math.max(0.2, ...nodes.map((n) => len(sub(n, base))));
     const planar = nodes.every((n) => Math.abs(n[2] - base[2]) < 1e-9);
     const k = (this.scenario.obstacles ?? []).length;
-    const c = add(base, [0.55 * reach, (0.35 - 0.18 * (k % 5)) * reach, planar ? 0 : 0.5 * reach]);
     const id = this.nextId(type);
-    const spec = { id, shape: defaultShape(type, c, reach) };
+    const spec = { id, shape: this.freeShape(type, base, reach, planar, k) };
     const ok = this.guard(() => { this.world.addObstacle(spec); return true; });
     if (!ok) return null;
     this.edited = true;
@@ -108,6 +107,27 @@ export const sceneMethods = {
     this.select(id);
     this.setStatus(`Added ${id}.`);
     return id;
+  },
+
+  /**
+   * A new obstacle's figure where it does not touch the arm: candidate
+   * centres around the base, the first whose clearance from the arm (asked
+   * of the library) is at least a tenth of the reach; the farthest one if
+   * none is.
+   */
+  freeShape(type, base, reach, planar, k) {
+    let best = null;
+    for (let i = 0; i < 24; i++) {
+      const angle = (k * 0.9 + i * 0.7) % (2 * Math.PI);
+      const r = (0.55 + 0.05 * (i % 4)) * reach;
+      const c = add(base, [r * Math.cos(angle), r * Math.sin(angle), planar ? 0 : (0.3 + 0.1 * (i % 3)) * reach]);
+      const shape = defaultShape(type, c, reach);
+      let clearance = -Infinity;
+      try { clearance = this.world.clearanceTo ? this.world.clearanceTo(shape) : Infinity; } catch { /* keep looking */ }
+      if (clearance >= 0.1 * reach) return shape;
+      if (!best || clearance > best.clearance) best = { shape, clearance };
+    }
+    return best.shape;
   },
 
   removeSelected() {

@@ -218,6 +218,21 @@ impl WorldHandle {
             .map_err(|e| scenario_error(&e))
     }
 
+    /// Clearance (m) between the arm as it is now (its segments' volumes)
+    /// and the figure `shape` (a primitive or a human), without adding it:
+    /// negative when it would overlap the arm. The playground places new
+    /// obstacles where this is positive.
+    ///
+    /// # Errors
+    /// A bad figure.
+    #[wasm_bindgen(js_name = clearanceTo)]
+    pub fn clearance_to(&self, shape: JsValue) -> Result<f64, JsError> {
+        let shape: ShapeSpec = object_from_js("shape", shape)?;
+        self.inner
+            .clearance_to(&shape)
+            .map_err(|e| scenario_error(&e))
+    }
+
     /// Moves obstacle `id` so that its reference point (centre, middle,
     /// vertex mean, floor point of a human) is at `position` `[x, y, z]`.
     ///
