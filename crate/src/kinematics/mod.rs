@@ -24,7 +24,7 @@ use glam::{DAffine3, DQuat};
 pub use frames::Frames;
 pub use spec::{
     BranchSpec, Convention, DEFAULT_RADIUS, Joint, JointSpec, JointType, PoseSpec, RadiusSpec,
-    RobotSpec, UNIT_QUAT_TOLERANCE,
+    MAX_MAGNITUDE, MAX_RADIUS, RobotSpec, UNIT_QUAT_TOLERANCE,
 };
 
 use crate::error::FieldError;

@@ -5,7 +5,7 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use wasm_bindgen::prelude::*;
 
-use super::boundary::{read_json, type_name};
+use super::boundary::{check_magnitudes, read_json, type_name};
 use crate::error::FieldError;
 use crate::kinematics::{Robot, RobotSpec, presets};
 
@@ -40,6 +40,7 @@ pub fn object_from_js<T: DeserializeOwned>(field: &str, value: JsValue) -> Resul
     if !json.is_object() {
         return Err(js_error(&FieldError::new(field, "expected an object")));
     }
+    check_magnitudes(field, &json)?;
     from_json_at(field, field, json)
 }
 
@@ -64,6 +65,7 @@ pub fn from_js_at<T: DeserializeOwned>(
         )));
     }
     let json = read_json(if prefix.is_empty() { root } else { prefix }, &value)?;
+    check_magnitudes(prefix, &json)?;
     from_json_at(prefix, root, json)
 }
 
@@ -136,6 +138,20 @@ pub fn f64_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
         .collect()
 }
 
+/// [`f64_vec`] with every element within ±1e6 (joint values, rates).
+pub fn joint_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
+    let v = f64_vec(field, value)?;
+    for (k, x) in v.iter().enumerate() {
+        crate::error::bounded(
+            &format!("{field}[{k}]"),
+            *x,
+            crate::kinematics::MAX_MAGNITUDE,
+        )
+        .map_err(|e| js_error(&e))?;
+    }
+    Ok(v)
+}
+
 /// A robot from a JS value: a robot spec object, `{ preset: name }`, or a
 /// preset name.
 pub fn robot(value: JsValue) -> Result<Robot, JsError> {
@@ -158,6 +174,7 @@ pub fn robot(value: JsValue) -> Result<Robot, JsError> {
             }
             Some(map) => {
                 joints_are_objects(map)?;
+                check_magnitudes("", &json)?;
                 from_json_at("", "robot", json)?
             }
             None => {

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
 
 use super::boundary::{count_arg, string_arg};
-use super::convert::{f64_vec, js_error, object_from_js, robot, to_js};
+use super::convert::{joint_vec, js_error, object_from_js, robot, to_js};
 use crate::control_point::DhPoint;
 use crate::kinematics::{Robot, presets};
 use crate::skeleton::{Skeleton, SpinePart};
@@ -31,7 +31,7 @@ fn rows(cols: &[DVec3]) -> Rows {
 }
 
 fn frames_of(robot: &Robot, q: &JsValue) -> Result<crate::kinematics::Frames, JsError> {
-    let q = f64_vec("q", q)?;
+    let q = joint_vec("q", q)?;
     robot.forward(&q).map_err(|e| js_error(&e))
 }
 
@@ -171,7 +171,7 @@ pub fn control_point(
     rates: JsValue,
 ) -> Result<JsValue, JsError> {
     let r = robot(robot_spec)?;
-    let qv = f64_vec("q", &q)?;
+    let qv = joint_vec("q", &q)?;
     let p: PointIn = object_from_js("point", point)?;
     let p = DhPoint {
         link: p.link,

@@ -23,6 +23,7 @@ fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
     if !json.is_object() {
         return Err(js_error(&FieldError::new("scenario", "expected an object")));
     }
+    super::boundary::check_magnitudes("", &json)?;
     let s: Scenario = super::convert::from_json_at("", "scenario", json)?;
     s.validate().map_err(|e| scenario_error(&e))?;
     Ok(s)
@@ -51,8 +52,15 @@ fn point3(field: &str, value: &JsValue) -> Result<DVec3, JsError> {
             format!("expected [x, y, z], got {} numbers", v.len()),
         )));
     }
-    let p = DVec3::new(v[0], v[1], v[2]);
-    crate::error::finite3(field, p).map_err(|e| js_error(&e))
+    for (k, c) in v.iter().enumerate() {
+        crate::error::bounded(
+            &format!("{field}[{k}]"),
+            *c,
+            crate::distance::domain::MAX_COORDINATE,
+        )
+        .map_err(|e| js_error(&e))?;
+    }
+    Ok(DVec3::new(v[0], v[1], v[2]))
 }
 
 /// Runs a scenario to its duration and returns the trace
@@ -64,6 +72,12 @@ fn point3(field: &str, value: &JsValue) -> Result<DVec3, JsError> {
 #[wasm_bindgen]
 pub fn simulate(scenario: JsValue) -> Result<JsValue, JsError> {
     let s = scenario_from_js(scenario)?;
+    if s.duration / s.dt > MAX_SIMULATE_STEPS {
+        return Err(js_error(&FieldError::new(
+            "duration",
+            format!("more than {MAX_SIMULATE_STEPS:e} steps of dt in one simulate call (use a World)"),
+        )));
+    }
     let trace = world::simulate(&s).map_err(|e| scenario_error(&e))?;
     to_js(&trace)
 }
@@ -113,6 +127,12 @@ pub fn bench_control_step(iterations: JsValue, obstacles: JsValue) -> Result<f64
 
 /// Most iterations one benchmark call runs (about 10 s of work).
 pub(crate) const MAX_BENCH_ITERATIONS: u32 = 10_000_000;
+
+/// Most control steps one `simulate` call runs (a few seconds of work).
+const MAX_SIMULATE_STEPS: f64 = 1e6;
+
+/// Most obstacles in one World.
+const MAX_OBSTACLES: usize = 10_000;
 
 /// Most steps one `advance` call runs.
 const MAX_STEPS_PER_CALL: u32 = 100_000;
@@ -237,6 +257,12 @@ impl WorldHandle {
     #[wasm_bindgen(js_name = addObstacle)]
     pub fn add_obstacle(&mut self, spec: JsValue) -> Result<(), JsError> {
         let spec: ObstacleSpec = object_from_js("obstacle", spec)?;
+        if self.inner.obstacle_primitives().len() >= MAX_OBSTACLES {
+            return Err(js_error(&FieldError::new(
+                "obstacle",
+                format!("a World holds at most {MAX_OBSTACLES} obstacles"),
+            )));
+        }
         self.inner
             .add_obstacle(spec)
             .map_err(|e| js_error(&e.field().clone().within("obstacle")))
