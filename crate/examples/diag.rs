@@ -15,10 +15,24 @@ fn main() {
         for i in 0..q.len() {
             let a = (v[i] - prev_v[i]) / dt;
             if a.abs() > robot.joints[i].max_acceleration * 1.001 {
-                println!("step {k} t {:.3} joint {i} q {:.5} v {:.4} acc {:.1} lim {} qdot_state {:.4} min {:.4} max {:.4} stopped {}", w.time(), q[i], v[i], a, robot.joints[i].max_acceleration, w.motion().qdot[i], robot.joints[i].min, robot.joints[i].max, w.is_stopped());
+                println!(
+                    "step {k} t {:.3} joint {i} q {:.5} v {:.4} acc {:.1} lim {} qdot_state {:.4} min {:.4} max {:.4} stopped {}",
+                    w.time(),
+                    q[i],
+                    v[i],
+                    a,
+                    robot.joints[i].max_acceleration,
+                    w.motion().qdot[i],
+                    robot.joints[i].min,
+                    robot.joints[i].max,
+                    w.is_stopped()
+                );
             }
         }
-        prev_q = q; prev_v = v;
+        prev_q = q;
+        prev_v = v;
     }
-    for e in w.events().iter().take(30) { println!("{:.3} {:?}", e.t, e.kind); }
+    for e in w.events().iter().take(30) {
+        println!("{:.3} {:?}", e.t, e.kind);
+    }
 }

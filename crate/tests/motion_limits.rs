@@ -44,7 +44,12 @@ fn audit(robot: &Robot, trace: &Trace) -> Audit {
     let mut touching = false;
     for k in 1..s.len() {
         let h = s[k].t - s[k - 1].t;
-        let v: Vec<f64> = s[k].q.iter().zip(&s[k - 1].q).map(|(a, b)| (a - b) / h).collect();
+        let v: Vec<f64> = s[k]
+            .q
+            .iter()
+            .zip(&s[k - 1].q)
+            .map(|(a, b)| (a - b) / h)
+            .collect();
         let mut a = None;
         for (i, j) in robot.joints.iter().enumerate() {
             out.velocity = out.velocity.max(v[i].abs() / j.max_velocity);
@@ -83,9 +88,17 @@ fn check(name: &str, robot: &Robot, trace: &Trace) -> Audit {
         a.velocity, a.acceleration, a.jerk, a.clearance, a.moving_contact
     );
     assert!(a.velocity <= 1.0 + 1e-9, "{name}: velocity {}", a.velocity);
-    assert!(a.acceleration <= 1.0 + 1e-6, "{name}: acceleration {}", a.acceleration);
+    assert!(
+        a.acceleration <= 1.0 + 1e-6,
+        "{name}: acceleration {}",
+        a.acceleration
+    );
     assert!(a.jerk <= 1.0 + 1e-6, "{name}: jerk {}", a.jerk);
-    assert!(a.moving_contact.is_none(), "{name}: contact began while moving at {:?}", a.moving_contact);
+    assert!(
+        a.moving_contact.is_none(),
+        "{name}: contact began while moving at {:?}",
+        a.moving_contact
+    );
     a
 }
 
@@ -154,7 +167,11 @@ fn obstacles_approaching_every_link_of_every_preset() {
                 duration: 2.0,
                 sample_every: 1,
             };
-            check(&format!("{name} segment {k} @ {speed:.1} m/s"), &robot, &simulate(&s).unwrap());
+            check(
+                &format!("{name} segment {k} @ {speed:.1} m/s"),
+                &robot,
+                &simulate(&s).unwrap(),
+            );
         }
     }
 }
@@ -174,8 +191,10 @@ fn a_travelling_control_point_does_not_move_the_arm() {
     for k in 0..1500 {
         w.step(0.001);
         for e in w.events() {
-            if matches!(e.kind, skeleton_avoidance::dependability::EventKind::TransitionEnd { .. })
-                && arrived.is_none()
+            if matches!(
+                e.kind,
+                skeleton_avoidance::dependability::EventKind::TransitionEnd { .. }
+            ) && arrived.is_none()
             {
                 arrived = Some((k, e.t));
             }

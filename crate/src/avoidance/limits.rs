@@ -102,8 +102,7 @@ pub fn braking_time(robot: &Robot, motion: &JointMotion, dt: f64) -> f64 {
         .zip(&motion.qdot)
         .zip(&motion.qddot)
         .map(|((j, v), a)| {
-            v.abs() / j.max_acceleration
-                + (a.abs() + j.max_acceleration) / j.max_jerk
+            v.abs() / j.max_acceleration + (a.abs() + j.max_acceleration) / j.max_jerk
         })
         .fold(0.0, f64::max)
         + dt
@@ -265,7 +264,13 @@ mod tests {
                 let acc = (m.qdot[i] - before.qdot[i]) / dt;
                 assert!(acc.abs() <= j.max_acceleration * (1.0 + 1e-9), "{acc}");
                 let jerk = (m.qddot[i] - before.qddot[i]) / dt;
-                assert!(jerk.abs() <= j.max_jerk * (1.0 + 1e-9), "jerk {jerk} joint {i} v {} a {} before {:?}", m.qdot[i], m.qddot[i], (before.qdot[i], before.qddot[i]));
+                assert!(
+                    jerk.abs() <= j.max_jerk * (1.0 + 1e-9),
+                    "jerk {jerk} joint {i} v {} a {} before {:?}",
+                    m.qdot[i],
+                    m.qddot[i],
+                    (before.qdot[i], before.qddot[i])
+                );
             }
             for ((qi, v), j) in q.iter_mut().zip(&m.qdot).zip(&r.joints) {
                 *qi += v * dt;
@@ -323,7 +328,10 @@ mod tests {
         while !m.is_at_rest() {
             step(&r, &q, &[0.0; 7], &mut m, 0.001);
             t += 0.001;
-            assert!(t <= budget * 1.1, "still moving after {t} s (budget {budget} s)");
+            assert!(
+                t <= budget * 1.1,
+                "still moving after {t} s (budget {budget} s)"
+            );
         }
     }
 }

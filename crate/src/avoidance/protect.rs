@@ -293,10 +293,16 @@ mod tests {
         let mut x = Vec::new();
         let p = project(&[2.0, 2.0], &[], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
         assert!(p.worst.is_none());
-        assert!((x[0] - 0.5).abs() < 1e-9 && (x[1] - 0.5).abs() < 1e-9, "{x:?}");
+        assert!(
+            (x[0] - 0.5).abs() < 1e-9 && (x[1] - 0.5).abs() < 1e-9,
+            "{x:?}"
+        );
         // Joint 1 four times heavier: it moves a quarter as much.
         project(&[2.0, 2.0], &[1.0, 4.0], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
-        assert!((x[0] + 0.4).abs() < 1e-9 && (x[1] - 1.4).abs() < 1e-9, "{x:?}");
+        assert!(
+            (x[0] + 0.4).abs() < 1e-9 && (x[1] - 1.4).abs() < 1e-9,
+            "{x:?}"
+        );
         // Inactive guard: untouched.
         project(&[0.1, 0.2], &[], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
         assert_eq!(x, vec![0.1, 0.2]);

@@ -99,8 +99,10 @@ pub fn select(
                     segment: other,
                     t: fraction_on(skeleton, other, p.point_other),
                 };
-                out.points.insert(Key::SelfPair(p.segment, other), (here, None));
-                out.points.insert(Key::SelfPair(other, p.segment), (there, None));
+                out.points
+                    .insert(Key::SelfPair(p.segment, other), (here, None));
+                out.points
+                    .insert(Key::SelfPair(other, p.segment), (there, None));
             }
         }
     }
@@ -114,7 +116,8 @@ pub fn select(
     }
     if config.selection == Selection::PerObstacle {
         for (&owner, &k) in &out.closest {
-            out.points.insert(Key::Obstacle(owner), (at(k), Some(owner)));
+            out.points
+                .insert(Key::Obstacle(owner), (at(k), Some(owner)));
         }
     }
     out

@@ -689,13 +689,17 @@ impl Scenario {
 /// `influenceDistance: must be > 0`, `pinned[0].link: 9 is out of range 1..=7`, …
 pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), FieldError> {
     c.validate()?;
-    if let Some(w) = &c.joint_weights {
-        if w.len() != robot.dof() {
-            return Err(FieldError::new(
-                "jointWeights",
-                format!("expected {} values (one per joint), got {}", robot.dof(), w.len()),
-            ));
-        }
+    if let Some(w) = &c.joint_weights
+        && w.len() != robot.dof()
+    {
+        return Err(FieldError::new(
+            "jointWeights",
+            format!(
+                "expected {} values (one per joint), got {}",
+                robot.dof(),
+                w.len()
+            ),
+        ));
     }
     if c.selection == Selection::Pinned || !c.pinned.is_empty() {
         let q = vec![0.0; robot.dof()];

@@ -177,9 +177,8 @@ impl TaskSpec {
                         d: v.d,
                         a: v.a,
                     };
-                    p.validate(robot, &frames).map_err(|e| {
-                        if e.field == "link" { e } else { e.within(name) }
-                    })?;
+                    p.validate(robot, &frames)
+                        .map_err(|e| if e.field == "link" { e } else { e.within(name) })?;
                 }
                 non_negative("start", *start)?;
                 positive("duration", *duration)?;
@@ -273,7 +272,12 @@ impl Tasks {
         self.as_slice()
             .iter()
             .map(|t| match (t, t.point_at(0.0)) {
-                (TaskSpec::Point { position: Some(p), .. }, _) => DVec3::from_array(*p),
+                (
+                    TaskSpec::Point {
+                        position: Some(p), ..
+                    },
+                    _,
+                ) => DVec3::from_array(*p),
                 (_, Some((dh, _))) => dh.position(robot, frames),
                 _ => frames
                     .end_effectors

@@ -26,9 +26,10 @@ extern "C" {
 /// symbol, more than 100000 elements in an array).
 pub fn read_json(field: &str, value: &JsValue) -> Result<serde_json::Value, JsError> {
     let text = read_json_js(value, field).map_err(|e| {
-        let msg = e
-            .dyn_ref::<js_sys::Error>()
-            .map_or_else(|| format!("{field}: could not be read"), |e| String::from(e.message()));
+        let msg = e.dyn_ref::<js_sys::Error>().map_or_else(
+            || format!("{field}: could not be read"),
+            |e| String::from(e.message()),
+        );
         JsError::new(&msg)
     })?;
     serde_json::from_str(&text)
@@ -79,10 +80,10 @@ pub fn count_arg(
     default: Option<u32>,
     max: u32,
 ) -> Result<u32, JsError> {
-    if value.is_undefined() || value.is_null() {
-        if let Some(d) = default {
-            return Ok(d);
-        }
+    if (value.is_undefined() || value.is_null())
+        && let Some(d) = default
+    {
+        return Ok(d);
     }
     let x = number_arg(field, value)?;
     if x.fract() != 0.0 {
@@ -92,10 +93,7 @@ pub fn count_arg(
         return Err(js_error(&FieldError::new(field, "must be >= 0")));
     }
     if x > f64::from(max) {
-        return Err(js_error(&FieldError::new(
-            field,
-            format!("at most {max}"),
-        )));
+        return Err(js_error(&FieldError::new(field, format!("at most {max}"))));
     }
     // In 0..=max, integral: exact.
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
@@ -134,7 +132,12 @@ pub const MAX_NUMBER: f64 = 1e9;
 /// Keys whose numbers are identifiers rather than magnitudes.
 const UNBOUNDED_KEYS: &[&str] = &["seed"];
 
-/// Every number in `json` within ±[`MAX_NUMBER`].
+/// Tags of variants that carry no fields: serde ignores keys beside the
+/// tag of such a variant, so they are refused here.
+const BARE_TAGS: &[&str] = &["static", "hold"];
+
+/// Every number in `json` within ±[`MAX_NUMBER`], and no key beside the
+/// `type` of a variant without fields (`{ type: "static", colour: 1 }`).
 pub fn check_magnitudes(field: &str, json: &serde_json::Value) -> Result<(), JsError> {
     use serde_json::Value;
     match json {
@@ -150,6 +153,18 @@ pub fn check_magnitudes(field: &str, json: &serde_json::Value) -> Result<(), JsE
             .enumerate()
             .try_for_each(|(k, v)| check_magnitudes(&format!("{field}[{k}]"), v)),
         Value::Object(map) => map.iter().try_for_each(|(k, v)| {
+            let bare = map
+                .get("type")
+                .and_then(Value::as_str)
+                .is_some_and(|t| BARE_TAGS.contains(&t));
+            if bare && k != "type" {
+                let p = if field.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{field}.{k}")
+                };
+                return Err(js_error(&FieldError::new(p, "unknown field")));
+            }
             if UNBOUNDED_KEYS.contains(&k.as_str()) {
                 return Ok(());
             }

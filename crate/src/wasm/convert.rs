@@ -83,7 +83,7 @@ pub fn from_json_at<T: DeserializeOwned>(
         let reason = if reason.contains(NON_FINITE_TAG) {
             "not a finite number".to_owned()
         } else {
-            reason
+            plain_reason(&reason)
         };
         let err = if path.is_empty() {
             FieldError::new(root, reason)
@@ -94,6 +94,47 @@ pub fn from_json_at<T: DeserializeOwned>(
         };
         js_error(&err)
     })
+}
+
+/// Rust number types as serde names them in messages.
+const NUMBER_TYPES: &[&str] = &[
+    "f64", "f32", "u8", "u16", "u32", "u64", "usize", "i8", "i16", "i32", "i64", "isize",
+];
+
+/// A serde message in the project's words: what was expected, never a Rust
+/// type name (`invalid type: integer `5`, expected struct DampingConfig` →
+/// `expected an object, got 5`).
+pub fn plain_reason(reason: &str) -> String {
+    if let Some(rest) = reason.strip_prefix("data did not match any variant of untagged enum ") {
+        return match rest.trim() {
+            "RadiusSpec" => "expected a number or [r0, r1]".to_owned(),
+            other => format!("not one of the accepted forms of {other}"),
+        };
+    }
+    if let Some(rest) = reason.strip_prefix("invalid type: ")
+        && let Some((got, expected)) = rest.split_once(", expected ")
+    {
+        let expected =
+            if expected.starts_with("struct ") || expected.starts_with("internally tagged") {
+                "an object"
+            } else if NUMBER_TYPES.contains(&expected) {
+                "a number"
+            } else if expected.starts_with("a sequence") || expected.starts_with("an array") {
+                "an array"
+            } else {
+                expected
+            };
+        let got = got.replace('`', "");
+        return format!("expected {expected}, got {got}");
+    }
+    if let Some(rest) = reason.strip_prefix("invalid length ")
+        && let Some((n, expected)) = rest.split_once(", expected ")
+    {
+        return format!(
+            "expected {expected}, got {n} elements (in this value or one of its lists)"
+        );
+    }
+    reason.to_owned()
 }
 
 /// Marks a non-finite number in a converted value (JSON has none; see

@@ -12,7 +12,11 @@ use crate::scenario::{self, ObstacleSpec, Scenario, ScenarioError, ShapeSpec};
 use crate::world::{self, World};
 
 fn scenario_error(e: &ScenarioError) -> JsError {
-    js_error(e.field())
+    let f = e.field();
+    js_error(&FieldError::new(
+        f.field.clone(),
+        super::convert::plain_reason(&f.reason),
+    ))
 }
 
 fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
@@ -75,7 +79,9 @@ pub fn simulate(scenario: JsValue) -> Result<JsValue, JsError> {
     if s.duration / s.dt > MAX_SIMULATE_STEPS {
         return Err(js_error(&FieldError::new(
             "duration",
-            format!("more than {MAX_SIMULATE_STEPS:e} steps of dt in one simulate call (use a World)"),
+            format!(
+                "more than {MAX_SIMULATE_STEPS:e} steps of dt in one simulate call (use a World)"
+            ),
         )));
     }
     let trace = world::simulate(&s).map_err(|e| scenario_error(&e))?;
@@ -166,10 +172,10 @@ pub(crate) fn guard_world_class() {
     let instance = JsValue::from(WorldHandle { inner });
     guard_class(&instance, "World", WORLD_ARGS);
     // The throwaway world is freed by the guarded `free()`.
-    if let Ok(free) = js_sys::Reflect::get(&instance, &JsValue::from_str("free")) {
-        if let Some(f) = free.dyn_ref::<js_sys::Function>() {
-            let _ = f.call0(&instance);
-        }
+    if let Ok(free) = js_sys::Reflect::get(&instance, &JsValue::from_str("free"))
+        && let Some(f) = free.dyn_ref::<js_sys::Function>()
+    {
+        let _ = f.call0(&instance);
     }
 }
 

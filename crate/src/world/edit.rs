@@ -4,8 +4,8 @@
 
 use glam::DVec3;
 
-use super::{PICK_RADIUS, Pick, World};
 use super::obstacles::ObstacleState;
+use super::{PICK_RADIUS, Pick, World};
 use crate::avoidance::ControllerConfig;
 use crate::avoidance::selection::Key;
 use crate::error::FieldError;
@@ -212,4 +212,3 @@ fn merge_json(base: &mut serde_json::Value, patch: &serde_json::Value) {
         (b, p) => *b = p.clone(),
     }
 }
-

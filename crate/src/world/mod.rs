@@ -49,8 +49,7 @@ mod track;
 
 use obstacles::ObstacleState;
 pub use state::{
-    ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonState, Uncertainty,
-    WorldState,
+    ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonState, Uncertainty, WorldState,
 };
 use track::Tracker;
 

@@ -20,7 +20,11 @@ pub(super) struct ObstacleState {
 }
 
 impl ObstacleState {
-    pub(super) fn new(spec: ObstacleSpec, scenario: &Scenario, index: usize) -> Result<Self, FieldError> {
+    pub(super) fn new(
+        spec: ObstacleSpec,
+        scenario: &Scenario,
+        index: usize,
+    ) -> Result<Self, FieldError> {
         let parts = primitives(&spec.shape).map_err(|e| e.within("shape"))?;
         let s = scenario.sensing.for_obstacle(&spec.id);
         let bound = s.bound.unwrap_or(0.0);
@@ -59,7 +63,6 @@ impl ObstacleState {
                 .is_some_and(|m| *m != crate::scenario::Motion::Static)
     }
 }
-
 
 impl World {
     /// The *sense* stage: the scene of the obstacles at time `t`, displaced
@@ -107,7 +110,11 @@ impl World {
 
     /// Distance from `p` to obstacle `o` as sensed (its closest part):
     /// distance, unit normal from `p` towards it, witness on it.
-    pub(super) fn point_distance(&self, o: usize, p: DVec3) -> Result<(f64, DVec3, DVec3), FieldError> {
+    pub(super) fn point_distance(
+        &self,
+        o: usize,
+        p: DVec3,
+    ) -> Result<(f64, DVec3, DVec3), FieldError> {
         let me = Primitive::Point(p);
         let mut best: Option<(f64, DVec3, DVec3)> = None;
         // `owners` is sorted: obstacle o's parts are one contiguous run.
@@ -134,5 +141,4 @@ impl World {
         }
         best.map(|b| b.1)
     }
-
 }

@@ -214,5 +214,4 @@ impl World {
                 .collect(),
         }
     }
-
 }

@@ -68,7 +68,9 @@ impl World {
     /// the obstacles as sensed; also the true smallest clearance.
     fn scene_query(&mut self, cfg: &ControllerConfig) -> Result<Vec<PairDistance>, FieldError> {
         if cfg.mode == Mode::Clik2 {
-            self.frames = self.robot.forward_with_velocity(&self.q, &self.motion.qdot)?;
+            self.frames = self
+                .robot
+                .forward_with_velocity(&self.q, &self.motion.qdot)?;
         } else {
             self.robot.forward_into(&self.q, &mut self.frames)?;
         }
@@ -174,7 +176,9 @@ impl World {
                 (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
                 _ => self.name(&key),
             };
-            let ttc = prev.map_or(f64::INFINITY, |p| time_to_collision(effective, (p - effective) / dt));
+            let ttc = prev.map_or(f64::INFINITY, |p| {
+                time_to_collision(effective, (p - effective) / dt)
+            });
             min_ttc = min_ttc.min(ttc);
             let too_slow = remaining > 0.0 && ttc < remaining;
             if let Some(trm) = self.trackers.get_mut(&key) {
@@ -228,7 +232,9 @@ impl World {
         let (robot, frames, qdot) = (&self.robot, &self.frames, &self.motion.qdot);
         let request = match cfg.mode {
             Mode::Velocity => avoidance::velocity_control(robot, frames, active, &refs, cfg)?,
-            Mode::Torque => avoidance::torque_control(robot, frames, qdot, active, &refs, cfg, dt)?.0,
+            Mode::Torque => {
+                avoidance::torque_control(robot, frames, qdot, active, &refs, cfg, dt)?.0
+            }
             Mode::Clik2 => {
                 avoidance::clik2_control(robot, frames, &self.q, qdot, active, &refs, cfg, dt)?
             }
@@ -251,7 +257,12 @@ impl World {
                 Target::Obstacle { id, .. } => {
                     let o = self.owners[id as usize];
                     let v = self.obstacles[o].velocity(self.t, dt);
-                    (p.distance - self.obstacles[o].margin, Some(o), None, -p.normal.dot(v))
+                    (
+                        p.distance - self.obstacles[o].margin,
+                        Some(o),
+                        None,
+                        -p.normal.dot(v),
+                    )
                 }
                 Target::Segment(other) => {
                     let u = fraction_on(&self.skeleton, other, p.point_other);
@@ -302,9 +313,10 @@ impl World {
             floor,
             &mut guards,
         )?;
-        let all_hold = self.guard_pairs.iter().all(|g| {
-            p.bound(g.distance, g.obstacle_speed, braking) >= 0.0
-        });
+        let all_hold = self
+            .guard_pairs
+            .iter()
+            .all(|g| p.bound(g.distance, g.obstacle_speed, braking) >= 0.0);
         let (lo, hi) = velocity_box(&self.robot, &self.q);
         let weights = cfg.joint_weights.as_deref().unwrap_or(&[]);
         let mut out = Vec::with_capacity(self.request.len());
@@ -349,7 +361,14 @@ impl World {
         } else {
             f64::INFINITY
         };
-        limits::step_capped(&self.robot, &self.q, &self.request, &mut self.motion, dt, cap);
+        limits::step_capped(
+            &self.robot,
+            &self.q,
+            &self.request,
+            &mut self.motion,
+            dt,
+            cap,
+        );
         for (q, v) in self.q.iter_mut().zip(&self.motion.qdot) {
             *q += v * dt;
         }

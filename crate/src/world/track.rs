@@ -140,7 +140,8 @@ impl World {
             if let Some((segment, until)) = tracker.lock {
                 if t >= until {
                     tracker.lock = None;
-                    let obstacle = owner.map_or_else(String::new, |o| self.obstacles[o].spec.id.clone());
+                    let obstacle =
+                        owner.map_or_else(String::new, |o| self.obstacles[o].spec.id.clone());
                     self.push(EventKind::Unlock { obstacle });
                 } else if at.segment != segment {
                     at = self.locked_point(&tracker, segment, pairs);
@@ -156,7 +157,8 @@ impl World {
                     switches = tracker.counter.record(t, dep.switch_window);
                 }
             }
-            let chattering = tracker.counter.count(t, dep.switch_window) > dep.max_switches as usize;
+            let chattering =
+                tracker.counter.count(t, dep.switch_window) > dep.max_switches as usize;
             let rising = chattering && !tracker.chattering;
             tracker.chattering = chattering;
             let lock_segment = tracker.mover.point().segment;
