@@ -38,6 +38,12 @@ export function buildPackage({ build = true } = {}) {
   fs.writeFileSync(path.join(pkgDir, 'node', 'package.json'), '{ "type": "commonjs" }\n');
   copy(path.join(repo, 'crate', 'pkg'), path.join(pkgDir, 'web'), ['skeleton_avoidance.js', 'skeleton_avoidance_bg.wasm']);
   copy(src, pkgDir, ['index.d.ts', 'package.json', 'README.md']);
+  // The boundary's JS snippets (ES modules; Node ≥ 20.19 requires them).
+  for (const [from, to] of [['pkg-node', 'node'], ['pkg', 'web']]) {
+    const dir = path.join(repo, 'crate', from, 'snippets');
+    if (fs.existsSync(dir)) fs.cpSync(dir, path.join(pkgDir, to, 'snippets'), { recursive: true });
+  }
+  fs.writeFileSync(path.join(pkgDir, 'node', 'snippets', 'package.json'), '{ "type": "module" }\n');
 
   const nodeModule = createRequire(import.meta.url)(path.join(pkgDir, 'node', 'skeleton_avoidance.js'));
   const webText = fs.readFileSync(path.join(pkgDir, 'web', 'skeleton_avoidance.js'), 'utf8');

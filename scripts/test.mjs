@@ -32,6 +32,10 @@ const layers = [
     if (buildWasm('node') !== 0) return 1;
     return run('node', ['--test', ...testFiles('tests/node')]);
   }],
+  ['fuzz', 'seeded hostile calls to every export and World method (FUZZ_SECONDS, default 40)', () => {
+    if (buildWasm('node') !== 0) return 1;
+    return run('node', ['--test', ...testFiles('tests/fuzz')]);
+  }],
   ['package', 'npm pack, install into a temp project, tsc, run in Node', () => {
     if (!buildPackage()) return 1;
     return run('node', ['--test', ...testFiles('tests/package')]);

@@ -70,6 +70,21 @@ pub fn finite(field: &str, x: f64) -> Result<f64, FieldError> {
     }
 }
 
+/// `Ok(x)` when `x` is finite and within ±`bound` (a magnitude domain).
+///
+/// # Errors
+/// `field: not a finite number` or `field: must be within ±1e6 (got 2e6)`.
+pub fn bounded(field: &str, x: f64, bound: f64) -> Result<f64, FieldError> {
+    let x = finite(field, x)?;
+    if x.abs() > bound {
+        return Err(FieldError::new(
+            field,
+            format!("must be within ±{bound:e} (got {x:e})"),
+        ));
+    }
+    Ok(x)
+}
+
 /// `Ok(v)` when every component of `v` is finite.
 ///
 /// # Errors

@@ -8,15 +8,57 @@ const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
 
 const close = (a, b, tol = 1e-12) => Math.abs(a - b) <= tol;
 
+const PRESETS = ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm', 'stanford'];
+const LIMITS = ['min', 'max', 'maxVelocity', 'maxAcceleration', 'maxJerk', 'maxTorque'];
+
 test('robotPreset returns a spec for every documented preset', () => {
-  for (const name of ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm']) {
+  for (const name of PRESETS) {
     const spec = sa.robotPreset(name);
     assert.ok(['standard', 'modified'].includes(spec.convention), name);
     assert.ok(spec.joints.length > 0, name);
   }
   assert.deepEqual(sa.robotPreset('planar3').joints.map((j) => j.a), [0.4, 0.3, 0.2]);
   assert.equal(sa.robotPreset('panda').convention, 'modified');
-  assert.deepEqual(sa.presetNames(), ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm']);
+  assert.deepEqual(sa.presetNames(), PRESETS);
+});
+
+test('every preset joint carries finite limits, branches included', () => {
+  for (const name of PRESETS) {
+    const spec = sa.robotPreset(name);
+    const joints = [...spec.joints, ...(spec.branches ?? []).flatMap((b) => b.joints)];
+    for (const [k, j] of joints.entries()) {
+      for (const field of LIMITS) {
+        assert.ok(Number.isFinite(j[field]), `${name} joint ${k} ${field}`);
+      }
+      assert.ok(j.min < j.max && j.maxVelocity > 0 && j.maxAcceleration > 0 && j.maxJerk > 0 && j.maxTorque > 0);
+    }
+  }
+  assert.equal(sa.robotPreset('dual-arm').branches.flatMap((b) => b.joints).length, 14);
+  // Franka's published limits.
+  const panda = sa.robotPreset('panda').joints;
+  assert.deepEqual(panda.map((j) => j.maxAcceleration), [15, 7.5, 10, 12.5, 15, 20, 20]);
+  assert.deepEqual(panda.map((j) => j.maxJerk), [7500, 3750, 5000, 6250, 7500, 10000, 10000]);
+  assert.deepEqual(panda.map((j) => j.maxTorque), [87, 87, 87, 87, 12, 12, 12]);
+  assert.equal(sa.robotPreset('stanford').joints[2].type, 'prismatic');
+});
+
+test('bad limits are refused with the field named', () => {
+  const robot = sa.robotPreset('planar3');
+  const cases = [
+    ['maxVelocity', -1, 'joints[1].maxVelocity: must be > 0'],
+    ['maxAcceleration', 0, 'joints[1].maxAcceleration: must be > 0'],
+    ['maxJerk', NaN, 'joints[1].maxJerk'],
+    ['maxTorque', -5, 'joints[1].maxTorque: must be > 0'],
+  ];
+  for (const [field, value, message] of cases) {
+    const bad = structuredClone(robot);
+    bad.joints[1][field] = value;
+    assert.throws(() => sa.forwardKinematics(bad, [0, 0, 0]), (e) => e instanceof Error && e.message.includes(message), field);
+  }
+  const bad = structuredClone(robot);
+  bad.joints[0].min = 1;
+  bad.joints[0].max = -1;
+  assert.throws(() => sa.forwardKinematics(bad, [0, 0, 0]), /joints\[0\]\.min: 1 is above max -1/);
 });
 
 test('forwardKinematics matches the closed form of the planar arm', () => {
@@ -91,11 +133,11 @@ test('bad input throws an Error naming the field', () => {
   bad.joints[3].alpha = NaN;
   throwsWith(() => sa.forwardKinematics(bad, [0, 0, 0, 0, 0, 0, 0]), /^joints\[3\]\.alpha: not a finite number/);
   bad.joints[3].alpha = 'x';
-  throwsWith(() => sa.forwardKinematics(bad, [0, 0, 0, 0, 0, 0, 0]), /^joints\[3\]\.alpha: invalid type/);
+  throwsWith(() => sa.forwardKinematics(bad, [0, 0, 0, 0, 0, 0, 0]), /^joints\[3\]\.alpha: expected a number, got string/);
   throwsWith(() => sa.forwardKinematics({ convention: 'standard', joints: [] }, []), /^joints: the DH table is empty/);
   throwsWith(() => sa.robotPreset('kuka'), /^preset: unknown robot "kuka"/);
   throwsWith(() => sa.forwardKinematics({ ...robot, base: { position: [0, 0, 0], rotation: [0, 0, 0, 0] } }, [0, 0, 0, 0, 0, 0, 0]), /^base\.rotation: degenerate/);
   throwsWith(() => sa.controlPoint(robot, [0, 0, 0, 0, 0, 0, 0], { link: 9, d: 0, a: 0 }), /^point\.link: 9 is out of range 1\.\.=7/);
   throwsWith(() => sa.controlPoint(robot, [0, 0, 0, 0, 0, 0, 0], { link: 3, d: 0.5, a: 0 }), /^point\.d: 0\.5 is outside the link's span/);
-  throwsWith(() => sa.forwardKinematics(42, [0]), /^robot: invalid type/);
+  throwsWith(() => sa.forwardKinematics(42, [0]), /^robot: expected a robot spec object/);
 });

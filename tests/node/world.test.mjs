@@ -69,7 +69,7 @@ test('scenario errors name the JSON path and the reason', () => {
   short.obstacles = [{ id: 'a', shape: { type: 'sphere', center: [0, NaN, 1], radius: 0.1 } }];
   assert.throws(() => new sa.World(short), { message: 'obstacles[0].shape.center[1]: not a finite number' });
   const robot = { ...base(), robot: { convention: 'standard', joints: [{ a: 0.4, alpha: 'x', d: 0, theta: 0 }] } };
-  assert.throws(() => sa.simulate(robot), /^Error: robot\.joints\[0\]\.alpha: invalid type/);
+  assert.throws(() => sa.simulate(robot), /^Error: robot\.joints\[0\]\.alpha: expected a number, got/);
   assert.throws(() => sa.simulate({ ...base(), dt: NaN }), /dt: not a finite number/);
   assert.throws(() => sa.simulate({ ...base(), colour: 'red' }), /colour/);
   assert.throws(() => sa.simulate({ ...base(), controller: { mode: 'fast' } }), /controller\.mode/);
@@ -125,10 +125,52 @@ test('invalid edits throw with the field and leave the World as it was', () => {
   assert.throws(() => w.setController({ influenceDistance: -1 }), { message: 'controller.influenceDistance: must be > 0' });
   assert.throws(() => w.setController({ bogus: true }), /bogus/);
   assert.throws(() => w.setController(null), /controller/);
+  assert.throws(() => w.setController({ jointWeights: [1, 1, 1] }),
+    { message: 'controller.jointWeights: expected 7 values (one per joint), got 3' });
+  assert.throws(() => w.setController({ jointWeights: [1, 1, 1, 0, 1, 1, 1] }),
+    { message: 'controller.jointWeights[3]: must be > 0' });
+  assert.throws(() => w.setController({ protective: { safetyDistance: -0.1 } }), /protective\.safetyDistance/);
   assert.throws(() => w.pick([0, 0, 0], [0, 0, 0]), /direction: must not be zero/);
   assert.throws(() => w.step(0), { message: 'dt: must be > 0' });
   assert.throws(() => w.step(NaN), /dt/);
   assert.throws(() => w.step(1), /dt: must be ≤ 0.1 s/);
+  assert.equal(JSON.stringify(w.state()), before);
+  w.free();
+});
+
+test('the motion of every example stays within the robot\'s limits', () => {
+  for (const name of NAMES) {
+    const sc = sa.exampleScenario(name);
+    sc.sampleEvery = 1;
+    const spec = sc.robot.preset ? sa.robotPreset(sc.robot.preset) : sc.robot;
+    // A spec without limits gets the documented defaults (revolute joints here).
+    const joints = [...spec.joints, ...(spec.branches ?? []).flatMap((b) => b.joints)]
+      .map((j) => ({ maxVelocity: 2, maxAcceleration: 10, ...j }));
+    const s = sa.simulate(sc).samples;
+    let prev = null;
+    for (let k = 1; k < s.length; k++) {
+      const h = s[k].t - s[k - 1].t;
+      const v = s[k].q.map((x, i) => (x - s[k - 1].q[i]) / h);
+      v.forEach((x, i) => assert.ok(Math.abs(x) <= joints[i].maxVelocity * (1 + 1e-9), `${name} q̇[${i}] ${x}`));
+      if (prev) {
+        v.forEach((x, i) => {
+          const a = Math.abs(x - prev[i]) / h;
+          assert.ok(a <= joints[i].maxAcceleration * (1 + 1e-6), `${name} q̈[${i}] ${a} at ${s[k].t}`);
+        });
+      }
+      prev = v;
+    }
+  }
+});
+
+test('clearanceTo measures a figure against the arm without adding it', () => {
+  const w = new sa.World(sa.exampleScenario('planar-transition'));
+  const before = JSON.stringify(w.state());
+  const far = w.clearanceTo({ type: 'sphere', center: [5, 5, 0], radius: 0.1 });
+  const inside = w.clearanceTo({ type: 'sphere', center: w.state().skeleton.nodes[1], radius: 0.05 });
+  assert.ok(far > 4, far);
+  assert.ok(inside < 0, inside);
+  assert.throws(() => w.clearanceTo({ type: 'sphere', center: [0, 0, 0], radius: -1 }), /shape\.radius/);
   assert.equal(JSON.stringify(w.state()), before);
   w.free();
 });

@@ -51,6 +51,7 @@
 
 mod cuboid;
 mod disk;
+pub mod domain;
 mod generic;
 mod plane;
 mod point;

@@ -718,6 +718,7 @@ impl Primitive {
     /// assert_eq!(err.to_string(), "radius: must be > 0");
     /// ```
     pub fn from_spec(spec: &PrimitiveSpec) -> Result<Self, FieldError> {
+        super::domain::check(spec)?;
         let v = |a: [f64; 3]| DVec3::from_array(a);
         Ok(match spec {
             PrimitiveSpec::Point(s) => Self::Point(finite3("p", v(s.p))?),

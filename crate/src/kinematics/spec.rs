@@ -4,7 +4,7 @@
 use glam::{DAffine3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{FieldError, finite, finite3, non_negative, positive};
+use crate::error::{FieldError, bounded, finite, finite3, non_negative, positive};
 
 /// DH convention of a robot's table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -232,8 +232,15 @@ pub(crate) fn rotation(field: &str, r: [f64; 4]) -> Result<DQuat, FieldError> {
     Ok(q / n)
 }
 
+fn radius(field: &str, r: f64) -> Result<f64, FieldError> {
+    bounded(field, non_negative(field, r)?, MAX_RADIUS)
+}
+
 pub(crate) fn pose(field: &str, p: &PoseSpec) -> Result<DAffine3, FieldError> {
     let t = finite3(&format!("{field}.position"), DVec3::from_array(p.position))?;
+    for (k, c) in p.position.iter().enumerate() {
+        bounded(&format!("{field}.position[{k}]"), *c, MAX_MAGNITUDE)?;
+    }
     let r = rotation(&format!("{field}.rotation"), p.rotation)?;
     Ok(DAffine3::from_rotation_translation(r, t))
 }
@@ -274,17 +281,26 @@ pub struct Joint {
     pub mount: Option<DQuat>,
 }
 
+/// Largest magnitude of a DH length (`a`, `d`, a base position, an
+/// extension, a prismatic limit) in metres, and of an angle or a limit in
+/// any unit: inside it every frame, Jacobian and rate stays finite.
+pub const MAX_MAGNITUDE: f64 = 1e6;
+
+/// Largest radius of a link's volume (m).
+pub const MAX_RADIUS: f64 = 1e3;
+
 pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, FieldError> {
-    let a = finite(&format!("{field}.a"), j.a)?;
-    let alpha = finite(&format!("{field}.alpha"), j.alpha)?;
-    let d = finite(&format!("{field}.d"), j.d)?;
-    let theta = finite(&format!("{field}.theta"), j.theta)?;
+    let big = |name: &str, v: f64| bounded(&format!("{field}.{name}"), v, MAX_MAGNITUDE);
+    let a = big("a", j.a)?;
+    let alpha = big("alpha", j.alpha)?;
+    let d = big("d", j.d)?;
+    let theta = big("theta", j.theta)?;
     let min = match j.min {
-        Some(v) => finite(&format!("{field}.min"), v)?,
+        Some(v) => big("min", v)?,
         None => f64::NEG_INFINITY,
     };
     let max = match j.max {
-        Some(v) => finite(&format!("{field}.max"), v)?,
+        Some(v) => big("max", v)?,
         None => f64::INFINITY,
     };
     if min > max {
@@ -295,7 +311,8 @@ pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, 
     }
     let defaults = j.kind.default_limits();
     let limit = |name: &str, v: Option<f64>, default: f64| match v {
-        Some(v) => positive(&format!("{field}.{name}"), v),
+        Some(v) => positive(&format!("{field}.{name}"), v)
+            .and_then(|v| bounded(&format!("{field}.{name}"), v, MAX_MAGNITUDE)),
         None => Ok(default),
     };
     let max_velocity = limit("maxVelocity", j.max_velocity, defaults.velocity)?;
@@ -304,14 +321,18 @@ pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, 
     let max_torque = limit("maxTorque", j.max_torque, defaults.torque)?;
     let radius = match j.radius {
         None => [DEFAULT_RADIUS; 2],
-        Some(RadiusSpec::Uniform(r)) => [non_negative(&format!("{field}.radius"), r)?; 2],
+        Some(RadiusSpec::Uniform(r)) => [radius(&format!("{field}.radius"), r)?; 2],
         Some(RadiusSpec::Tapered([r0, r1])) => [
-            non_negative(&format!("{field}.radius[0]"), r0)?,
-            non_negative(&format!("{field}.radius[1]"), r1)?,
+            radius(&format!("{field}.radius[0]"), r0)?,
+            radius(&format!("{field}.radius[1]"), r1)?,
         ],
     };
     let extension = match j.extension {
-        Some(e) => non_negative(&format!("{field}.extension"), e)?,
+        Some(e) => bounded(
+            &format!("{field}.extension"),
+            non_negative(&format!("{field}.extension"), e)?,
+            MAX_MAGNITUDE,
+        )?,
         None => 0.0,
     };
     Ok(Joint {

@@ -1,12 +1,11 @@
 //! Conversions between JavaScript values and core types, with validation
 //! errors that name the field.
 
-use js_sys::ArrayBuffer;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
-use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
+use super::boundary::{check_magnitudes, read_json, type_name};
 use crate::error::FieldError;
 use crate::kinematics::{Robot, RobotSpec, presets};
 
@@ -16,6 +15,7 @@ pub fn js_error(e: &FieldError) -> JsError {
 }
 
 /// Deserialises `value` into `T`; errors read `field.path: reason`.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 pub fn from_js<T: DeserializeOwned>(field: &str, value: JsValue) -> Result<T, JsError> {
     from_js_at(field, field, value)
 }
@@ -24,25 +24,35 @@ pub fn from_js<T: DeserializeOwned>(field: &str, value: JsValue) -> Result<T, Js
 /// serde would also read a struct from a positional array, which from JS is
 /// almost always a mistake.
 pub fn object_from_js<T: DeserializeOwned>(field: &str, value: JsValue) -> Result<T, JsError> {
-    if value.is_object() && !js_sys::Array::is_array(&value) && !ArrayBuffer::is_view(&value) {
-        from_js(field, value)
-    } else if value.is_undefined() || value.is_null() {
-        Err(js_error(&FieldError::new(
+    if value.is_undefined() || value.is_null() {
+        return Err(js_error(&FieldError::new(
             field,
             "missing (got undefined or null)",
-        )))
-    } else {
-        Err(js_error(&FieldError::new(field, "expected an object")))
+        )));
     }
+    if !value.is_object() {
+        return Err(js_error(&FieldError::new(
+            field,
+            format!("expected an object, got {}", type_name(&value)),
+        )));
+    }
+    let json = read_json(field, &value)?;
+    if !json.is_object() {
+        return Err(js_error(&FieldError::new(field, "expected an object")));
+    }
+    check_magnitudes(field, &json)?;
+    from_json_at(field, field, json)
 }
 
 /// Deserialises `value` into `T`; errors inside it read `prefix.path: reason`
 /// (just `path: reason` for an empty prefix), errors about the whole value
 /// `root: reason`.
 ///
-/// The value goes through [`to_json`] first: serde-wasm-bindgen reads only the
-/// keys a struct names, so a misspelt key would pass silently, while
-/// `deny_unknown_fields` works on a JSON value.
+/// The value is read once into JSON (see [`read_json`]): serde-wasm-bindgen
+/// reads only the keys a struct names, so a misspelt key would pass silently,
+/// while `deny_unknown_fields` works on a JSON value; and a throwing getter
+/// must not unwind through wasm.
+#[cfg_attr(not(feature = "render"), allow(dead_code))]
 pub fn from_js_at<T: DeserializeOwned>(
     prefix: &str,
     root: &str,
@@ -54,14 +64,17 @@ pub fn from_js_at<T: DeserializeOwned>(
             "missing (got undefined or null)",
         )));
     }
-    let json = to_json(&value, 0).map_err(|e| {
-        let e = if e.field.is_empty() {
-            FieldError::new(root, e.reason)
-        } else {
-            e.within(prefix)
-        };
-        js_error(&e)
-    })?;
+    let json = read_json(if prefix.is_empty() { root } else { prefix }, &value)?;
+    check_magnitudes(prefix, &json)?;
+    from_json_at(prefix, root, json)
+}
+
+/// [`from_js_at`] for a value already read (see [`read_json`]).
+pub fn from_json_at<T: DeserializeOwned>(
+    prefix: &str,
+    root: &str,
+    json: serde_json::Value,
+) -> Result<T, JsError> {
     serde_path_to_error::deserialize(json).map_err(|e| {
         let FieldError {
             field: path,
@@ -70,7 +83,7 @@ pub fn from_js_at<T: DeserializeOwned>(
         let reason = if reason.contains(NON_FINITE_TAG) {
             "not a finite number".to_owned()
         } else {
-            reason
+            plain_reason(&reason)
         };
         let err = if path.is_empty() {
             FieldError::new(root, reason)
@@ -83,88 +96,51 @@ pub fn from_js_at<T: DeserializeOwned>(
     })
 }
 
-/// Marks a non-finite number in a converted value (JSON has none); a field
-/// that expects a number then fails to parse, and the error is reworded.
-const NON_FINITE_TAG: &str = "non-finite number ";
+/// Rust number types as serde names them in messages.
+const NUMBER_TYPES: &[&str] = &[
+    "f64", "f32", "u8", "u16", "u32", "u64", "usize", "i8", "i16", "i32", "i64", "isize",
+];
 
-/// Deepest nesting accepted from JS (guards against cyclic objects).
-const MAX_DEPTH: usize = 64;
-
-/// Converts a JS value into JSON: objects (own enumerable keys; `undefined`
-/// members dropped), arrays, typed arrays, numbers, strings, booleans, null.
-fn to_json(value: &JsValue, depth: usize) -> Result<serde_json::Value, FieldError> {
-    use serde_json::Value;
-    if depth > MAX_DEPTH {
-        return Err(FieldError::new("", "nested too deeply (a cyclic object?)"));
+/// A serde message in the project's words: what was expected, never a Rust
+/// type name (`invalid type: integer `5`, expected struct DampingConfig` →
+/// `expected an object, got 5`).
+pub fn plain_reason(reason: &str) -> String {
+    if let Some(rest) = reason.strip_prefix("data did not match any variant of untagged enum ") {
+        return match rest.trim() {
+            "RadiusSpec" => "expected a number or [r0, r1]".to_owned(),
+            other => format!("not one of the accepted forms of {other}"),
+        };
     }
-    if value.is_null() || value.is_undefined() {
-        return Ok(Value::Null);
+    if let Some(rest) = reason.strip_prefix("invalid type: ")
+        && let Some((got, expected)) = rest.split_once(", expected ")
+    {
+        let expected =
+            if expected.starts_with("struct ") || expected.starts_with("internally tagged") {
+                "an object"
+            } else if NUMBER_TYPES.contains(&expected) {
+                "a number"
+            } else if expected.starts_with("a sequence") || expected.starts_with("an array") {
+                "an array"
+            } else {
+                expected
+            };
+        let got = got.replace('`', "");
+        return format!("expected {expected}, got {got}");
     }
-    if let Some(b) = value.as_bool() {
-        return Ok(Value::Bool(b));
+    if let Some(rest) = reason.strip_prefix("invalid length ")
+        && let Some((n, expected)) = rest.split_once(", expected ")
+    {
+        return format!(
+            "expected {expected}, got {n} elements (in this value or one of its lists)"
+        );
     }
-    if let Some(x) = value.as_f64() {
-        // JS has one number type; integral values become JSON integers so
-        // that index fields (`link`, `segment`) accept them.
-        const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
-        if x.fract() == 0.0 && x.abs() < EXACT {
-            return Ok(Value::Number((x as i64).into()));
-        }
-        return Ok(serde_json::Number::from_f64(x).map_or_else(
-            || Value::String(format!("{NON_FINITE_TAG}{x}")),
-            Value::Number,
-        ));
-    }
-    if let Some(s) = value.as_string() {
-        return Ok(Value::String(s));
-    }
-    if let Some(a) = value.dyn_ref::<js_sys::Float64Array>() {
-        return Ok(Value::Array(
-            a.to_vec()
-                .into_iter()
-                .map(|x| to_json(&JsValue::from_f64(x), depth + 1))
-                .collect::<Result<_, _>>()?,
-        ));
-    }
-    if js_sys::Array::is_array(value) {
-        let arr = js_sys::Array::from(value);
-        let mut out = Vec::with_capacity(arr.length() as usize);
-        for (k, v) in arr.iter().enumerate() {
-            out.push(to_json(&v, depth + 1).map_err(|e| e.within(&format!("[{k}]")))?);
-        }
-        return Ok(Value::Array(out));
-    }
-    if ArrayBuffer::is_view(value) {
-        // Other typed arrays (Float32Array, Int32Array, ...).
-        let arr = js_sys::Array::from(value);
-        return to_json(&arr.into(), depth);
-    }
-    if value.is_object() && !value.is_function() {
-        let obj: &js_sys::Object = value.unchecked_ref();
-        let mut map = serde_json::Map::new();
-        for entry in js_sys::Object::entries(obj).iter() {
-            let pair = js_sys::Array::from(&entry);
-            let key = pair.get(0).as_string().unwrap_or_default();
-            let v = pair.get(1);
-            if v.is_undefined() {
-                continue;
-            }
-            let converted = to_json(&v, depth + 1).map_err(|e| {
-                if e.field.is_empty() {
-                    FieldError::new(key.clone(), e.reason)
-                } else {
-                    e.within(&key)
-                }
-            })?;
-            map.insert(key, converted);
-        }
-        return Ok(Value::Object(map));
-    }
-    Err(FieldError::new(
-        "",
-        "unsupported value (expected JSON-like data)",
-    ))
+    reason.to_owned()
 }
+
+/// Marks a non-finite number in a converted value (JSON has none; see
+/// `boundary.js`); a field that expects a number then fails to parse, and the
+/// error is reworded.
+const NON_FINITE_TAG: &str = "non-finite number ";
 
 /// Serialises `value` as plain JSON-compatible JS objects.
 pub fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
@@ -173,31 +149,48 @@ pub fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
         .map_err(|e| JsError::new(&format!("internal: could not convert the result: {e}")))
 }
 
-/// A vector of numbers from a JS `Array` of numbers or a `Float64Array`.
+/// A vector of finite numbers from a JS `Array` of numbers or a typed array.
 pub fn f64_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
-    if let Some(arr) = value.dyn_ref::<js_sys::Float64Array>() {
-        return Ok(arr.to_vec());
+    let expected = || {
+        js_error(&FieldError::new(
+            field,
+            "expected an array or a Float64Array of numbers",
+        ))
+    };
+    if !value.is_object() {
+        return Err(expected());
     }
-    if js_sys::Array::is_array(value) {
-        let arr = js_sys::Array::from(value);
-        let mut out = Vec::with_capacity(arr.length() as usize);
-        for (k, v) in arr.iter().enumerate() {
-            match v.as_f64() {
-                Some(x) => out.push(x),
-                None => {
-                    return Err(js_error(&FieldError::new(
-                        format!("{field}[{k}]"),
-                        "not a number",
-                    )));
-                }
-            }
-        }
-        return Ok(out);
+    let serde_json::Value::Array(items) = read_json(field, value)? else {
+        return Err(expected());
+    };
+    items
+        .iter()
+        .enumerate()
+        .map(|(k, v)| match v {
+            serde_json::Value::Number(n) => n.as_f64().ok_or_else(expected),
+            serde_json::Value::String(s) if s.starts_with(NON_FINITE_TAG) => Err(js_error(
+                &FieldError::new(format!("{field}[{k}]"), "not a finite number"),
+            )),
+            _ => Err(js_error(&FieldError::new(
+                format!("{field}[{k}]"),
+                "not a number",
+            ))),
+        })
+        .collect()
+}
+
+/// [`f64_vec`] with every element within ±1e6 (joint values, rates).
+pub fn joint_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
+    let v = f64_vec(field, value)?;
+    for (k, x) in v.iter().enumerate() {
+        crate::error::bounded(
+            &format!("{field}[{k}]"),
+            *x,
+            crate::kinematics::MAX_MAGNITUDE,
+        )
+        .map_err(|e| js_error(&e))?;
     }
-    Err(js_error(&FieldError::new(
-        field,
-        "expected an array or a Float64Array of numbers",
-    )))
+    Ok(v)
 }
 
 /// A robot from a JS value: a robot spec object, `{ preset: name }`, or a
@@ -205,18 +198,72 @@ pub fn f64_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
 pub fn robot(value: JsValue) -> Result<Robot, JsError> {
     let spec: RobotSpec = if let Some(name) = value.as_string() {
         presets::preset(&name).map_err(|e| js_error(&e.within("robot")))?
-    } else if value.is_object()
-        && js_sys::Reflect::has(&value, &JsValue::from_str("preset")).unwrap_or(false)
-    {
-        let name = js_sys::Reflect::get(&value, &JsValue::from_str("preset"))
-            .ok()
-            .and_then(|v| v.as_string())
-            .ok_or_else(|| js_error(&FieldError::new("robot.preset", "expected a string")))?;
-        presets::preset(&name).map_err(|e| js_error(&e.within("robot")))?
+    } else if value.is_object() {
+        let json = read_json("robot", &value)?;
+        match json.as_object() {
+            Some(map) if map.contains_key("preset") => {
+                if let Some(key) = map.keys().find(|k| *k != "preset") {
+                    return Err(js_error(&FieldError::new(
+                        format!("robot.{key}"),
+                        "unknown field (with `preset`, nothing else is accepted)",
+                    )));
+                }
+                let name = map.get("preset").and_then(|v| v.as_str()).ok_or_else(|| {
+                    js_error(&FieldError::new("robot.preset", "expected a string"))
+                })?;
+                presets::preset(name).map_err(|e| js_error(&e.within("robot")))?
+            }
+            Some(map) => {
+                joints_are_objects(map)?;
+                check_magnitudes("", &json)?;
+                from_json_at("", "robot", json)?
+            }
+            None => {
+                return Err(js_error(&FieldError::new(
+                    "robot",
+                    "expected a robot spec object, { preset: name } or a preset name",
+                )));
+            }
+        }
     } else {
-        from_js_at("", "robot", value)?
+        return Err(js_error(&FieldError::new(
+            "robot",
+            format!(
+                "expected a robot spec object, {{ preset: name }} or a preset name, got {}",
+                type_name(&value)
+            ),
+        )));
     };
     Robot::from_spec(&spec).map_err(|e| js_error(&e))
+}
+
+/// Refuses joints given as positional arrays (`[a, alpha, d, theta]`), which
+/// serde would read into a struct in field order.
+fn joints_are_objects(map: &serde_json::Map<String, serde_json::Value>) -> Result<(), JsError> {
+    let mut lists: Vec<(String, &serde_json::Value)> = Vec::new();
+    if let Some(j) = map.get("joints") {
+        lists.push(("joints".to_owned(), j));
+    }
+    if let Some(serde_json::Value::Array(branches)) = map.get("branches") {
+        for (b, branch) in branches.iter().enumerate() {
+            if let Some(j) = branch.get("joints") {
+                lists.push((format!("branches[{b}].joints"), j));
+            }
+        }
+    }
+    for (path, list) in lists {
+        if let serde_json::Value::Array(items) = list {
+            for (k, item) in items.iter().enumerate() {
+                if !item.is_object() {
+                    return Err(js_error(&FieldError::new(
+                        format!("{path}[{k}]"),
+                        "expected a joint object { a, alpha, d, theta, … }",
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// `x` when finite, else an `Error` naming `field`.

@@ -5,9 +5,9 @@ use glam::{DAffine3, DVec3};
 use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
 
-use super::convert::{f64_vec, js_error, object_from_js, robot, to_js};
+use super::boundary::{count_arg, string_arg};
+use super::convert::{joint_vec, js_error, object_from_js, robot, to_js};
 use crate::control_point::DhPoint;
-use crate::error::FieldError;
 use crate::kinematics::{Robot, presets};
 use crate::skeleton::{Skeleton, SpinePart};
 
@@ -31,7 +31,7 @@ fn rows(cols: &[DVec3]) -> Rows {
 }
 
 fn frames_of(robot: &Robot, q: &JsValue) -> Result<crate::kinematics::Frames, JsError> {
-    let q = f64_vec("q", q)?;
+    let q = joint_vec("q", q)?;
     robot.forward(&q).map_err(|e| js_error(&e))
 }
 
@@ -39,12 +39,7 @@ fn frames_of(robot: &Robot, q: &JsValue) -> Result<crate::kinematics::Frames, Js
 /// `"dual-arm"`.
 #[wasm_bindgen(js_name = robotPreset)]
 pub fn robot_preset(name: JsValue) -> Result<JsValue, JsError> {
-    let name = name.as_string().ok_or_else(|| {
-        js_error(&FieldError::new(
-            "name",
-            "expected a preset name (a string)",
-        ))
-    })?;
+    let name = string_arg("name", &name)?;
     to_js(&presets::preset(&name).map_err(|e| js_error(&e))?)
 }
 
@@ -176,7 +171,7 @@ pub fn control_point(
     rates: JsValue,
 ) -> Result<JsValue, JsError> {
     let r = robot(robot_spec)?;
-    let qv = f64_vec("q", &q)?;
+    let qv = joint_vec("q", &q)?;
     let p: PointIn = object_from_js("point", point)?;
     let p = DhPoint {
         link: p.link,
@@ -259,8 +254,15 @@ pub fn skeleton_point(robot_spec: JsValue, q: JsValue, at: JsValue) -> Result<Js
 /// Jacobians) `iterations` times for preset `name` inside wasm; returns a
 /// checksum. Node times the call (`npm run bench`).
 #[wasm_bindgen(js_name = benchKinematicsStep)]
-pub fn bench_kinematics_step(name: &str, iterations: u32) -> Result<f64, JsError> {
-    let mut w = crate::workloads::KinematicsStep::new(name, 64).map_err(|e| js_error(&e))?;
+pub fn bench_kinematics_step(name: JsValue, iterations: JsValue) -> Result<f64, JsError> {
+    let name = string_arg("name", &name)?;
+    let iterations = count_arg(
+        "iterations",
+        &iterations,
+        None,
+        super::world::MAX_BENCH_ITERATIONS,
+    )?;
+    let mut w = crate::workloads::KinematicsStep::new(&name, 64).map_err(|e| js_error(&e))?;
     let mut sum = 0.0;
     for _ in 0..iterations {
         sum += w.run();

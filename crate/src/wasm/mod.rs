@@ -7,6 +7,7 @@ mod distance;
 
 use wasm_bindgen::prelude::*;
 
+mod boundary;
 mod convert;
 mod kinematics;
 mod urdf;
@@ -16,6 +17,7 @@ mod world;
 #[wasm_bindgen(start)]
 pub fn start() {
     console_error_panic_hook::set_once();
+    world::guard_world_class();
 }
 
 #[cfg(feature = "render")]

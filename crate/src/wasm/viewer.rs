@@ -351,10 +351,11 @@ impl Viewer {
     /// # Errors
     /// An `Error` for any other name.
     #[wasm_bindgen(js_name = setView)]
-    pub fn set_view(&mut self, name: &str) -> Result<(), JsError> {
-        self.camera.view = match name {
+    pub fn set_view(&mut self, name: JsValue) -> Result<(), JsError> {
+        let name = super::boundary::string_arg("view", &name)?;
+        self.camera.view = match name.as_str() {
             "auto" => self.auto_view,
-            _ => View::parse(name).ok_or_else(|| view_error("view", name))?,
+            _ => View::parse(&name).ok_or_else(|| view_error("view", &name))?,
         };
         self.dirty = true;
         Ok(())

@@ -5,22 +5,47 @@
 use glam::DVec3;
 use wasm_bindgen::prelude::*;
 
-use super::convert::{f64_vec, finite_arg, from_js_at, js_error, object_from_js, to_js};
+use super::boundary::{count_arg, guard_class, number_arg, string_arg};
+use super::convert::{f64_vec, js_error, object_from_js, to_js};
 use crate::error::FieldError;
 use crate::scenario::{self, ObstacleSpec, Scenario, ScenarioError, ShapeSpec};
 use crate::world::{self, World};
 
 fn scenario_error(e: &ScenarioError) -> JsError {
-    js_error(e.field())
+    let f = e.field();
+    js_error(&FieldError::new(
+        f.field.clone(),
+        super::convert::plain_reason(&f.reason),
+    ))
 }
 
 fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
-    if !value.is_object() || js_sys::Array::is_array(&value) {
+    if !value.is_object() {
         return Err(js_error(&FieldError::new("scenario", "expected an object")));
     }
-    let s: Scenario = from_js_at("", "scenario", value)?;
+    let json = super::boundary::read_json("scenario", &value)?;
+    if !json.is_object() {
+        return Err(js_error(&FieldError::new("scenario", "expected an object")));
+    }
+    super::boundary::check_magnitudes("", &json)?;
+    let s: Scenario = super::convert::from_json_at("", "scenario", json)?;
     s.validate().map_err(|e| scenario_error(&e))?;
     Ok(s)
+}
+
+/// A control step `dt` (s): a number in (0, `MAX_DT`].
+fn dt_arg(value: &JsValue) -> Result<f64, JsError> {
+    let dt = number_arg("dt", value)?;
+    if dt <= 0.0 {
+        return Err(js_error(&FieldError::new("dt", "must be > 0")));
+    }
+    if dt > scenario::MAX_DT {
+        return Err(js_error(&FieldError::new(
+            "dt",
+            format!("must be ≤ {} s", scenario::MAX_DT),
+        )));
+    }
+    Ok(dt)
 }
 
 fn point3(field: &str, value: &JsValue) -> Result<DVec3, JsError> {
@@ -31,8 +56,15 @@ fn point3(field: &str, value: &JsValue) -> Result<DVec3, JsError> {
             format!("expected [x, y, z], got {} numbers", v.len()),
         )));
     }
-    let p = DVec3::new(v[0], v[1], v[2]);
-    crate::error::finite3(field, p).map_err(|e| js_error(&e))
+    for (k, c) in v.iter().enumerate() {
+        crate::error::bounded(
+            &format!("{field}[{k}]"),
+            *c,
+            crate::distance::domain::MAX_COORDINATE,
+        )
+        .map_err(|e| js_error(&e))?;
+    }
+    Ok(DVec3::new(v[0], v[1], v[2]))
 }
 
 /// Runs a scenario to its duration and returns the trace
@@ -44,6 +76,14 @@ fn point3(field: &str, value: &JsValue) -> Result<DVec3, JsError> {
 #[wasm_bindgen]
 pub fn simulate(scenario: JsValue) -> Result<JsValue, JsError> {
     let s = scenario_from_js(scenario)?;
+    if s.duration / s.dt > MAX_SIMULATE_STEPS {
+        return Err(js_error(&FieldError::new(
+            "duration",
+            format!(
+                "more than {MAX_SIMULATE_STEPS:e} steps of dt in one simulate call (use a World)"
+            ),
+        )));
+    }
     let trace = world::simulate(&s).map_err(|e| scenario_error(&e))?;
     to_js(&trace)
 }
@@ -53,8 +93,9 @@ pub fn simulate(scenario: JsValue) -> Result<JsValue, JsError> {
 /// # Errors
 /// `name: unknown example "x" (known: …)`.
 #[wasm_bindgen(js_name = exampleScenario)]
-pub fn example_scenario(name: &str) -> Result<JsValue, JsError> {
-    let s = scenario::example(name).map_err(|e| scenario_error(&e))?;
+pub fn example_scenario(name: JsValue) -> Result<JsValue, JsError> {
+    let name = string_arg("name", &name)?;
+    let s = scenario::example(&name).map_err(|e| scenario_error(&e))?;
     to_js(&s)
 }
 
@@ -72,13 +113,11 @@ pub fn example_scenario_names() -> Vec<String> {
 /// `obstacles` static spheres, default 20, at 1 kHz) and returns a checksum.
 ///
 /// # Errors
-/// More than 100000 obstacles.
+/// `iterations` not an integer in 0..=10000, `obstacles` not one in 0..=1000.
 #[wasm_bindgen(js_name = benchControlStep)]
-pub fn bench_control_step(iterations: u32, obstacles: Option<u32>) -> Result<f64, JsError> {
-    let n = obstacles.unwrap_or(20);
-    if n > 100_000 {
-        return Err(js_error(&FieldError::new("obstacles", "at most 100000")));
-    }
+pub fn bench_control_step(iterations: JsValue, obstacles: JsValue) -> Result<f64, JsError> {
+    let iterations = count_arg("iterations", &iterations, None, MAX_BENCH_STEPS)?;
+    let n = count_arg("obstacles", &obstacles, Some(20), 1000)?;
     let mut w = world::control_step_workload(n as usize).map_err(|e| scenario_error(&e))?;
     let start = w.clone();
     let mut sum = 0.0;
@@ -90,6 +129,55 @@ pub fn bench_control_step(iterations: u32, obstacles: Option<u32>) -> Result<f64
         sum += w.q()[0];
     }
     Ok(sum)
+}
+
+/// Most iterations one `benchKinematicsStep` call runs (well under a second).
+pub(crate) const MAX_BENCH_ITERATIONS: u32 = 100_000;
+
+/// Most control steps one `benchControlStep` call runs.
+const MAX_BENCH_STEPS: u32 = 10_000;
+
+/// Most control steps one `simulate` call runs (a few seconds of work).
+const MAX_SIMULATE_STEPS: f64 = 1e6;
+
+/// Most obstacles in one World.
+const MAX_OBSTACLES: usize = 10_000;
+
+/// Most steps one `advance` call runs.
+const MAX_STEPS_PER_CALL: u32 = 100_000;
+
+/// Argument names of the `World` methods, for messages about inputs that
+/// cannot be read.
+const WORLD_ARGS: &[(&str, &[&str])] = &[
+    ("step", &["dt"]),
+    ("advance", &["dt", "steps"]),
+    ("state", &["since"]),
+    ("addObstacle", &["obstacle"]),
+    ("removeObstacle", &["id"]),
+    ("setObstacleShape", &["id", "shape"]),
+    ("clearanceTo", &["shape"]),
+    ("moveObstacle", &["id", "position"]),
+    ("setController", &["controller"]),
+    ("pick", &["origin", "direction"]),
+];
+
+/// Guards the `World` class (see `guardClass` in `boundary.js`): called once
+/// when the module starts, with a throwaway world.
+pub(crate) fn guard_world_class() {
+    let Ok(s) = scenario::example("planar-transition") else {
+        return;
+    };
+    let Ok(inner) = World::new(s) else {
+        return;
+    };
+    let instance = JsValue::from(WorldHandle { inner });
+    guard_class(&instance, "World", WORLD_ARGS);
+    // The throwaway world is freed by the guarded `free()`.
+    if let Ok(free) = js_sys::Reflect::get(&instance, &JsValue::from_str("free"))
+        && let Some(f) = free.dyn_ref::<js_sys::Function>()
+    {
+        let _ = f.call0(&instance);
+    }
 }
 
 /// A live simulation that JavaScript owns: step it, read its state, edit
@@ -127,31 +215,19 @@ impl WorldHandle {
     ///
     /// # Errors
     /// `dt: must be > 0` (or above 0.1 s, or not finite).
-    pub fn step(&mut self, dt: f64) -> Result<(), JsError> {
-        self.advance(dt, 1)
+    pub fn step(&mut self, dt: JsValue) -> Result<(), JsError> {
+        let dt = dt_arg(&dt)?;
+        self.inner.step(dt);
+        Ok(())
     }
 
     /// `steps` control steps of `dt` seconds each (one call per frame).
     ///
     /// # Errors
     /// As `step`; `steps` above 100000.
-    pub fn advance(&mut self, dt: f64, steps: u32) -> Result<(), JsError> {
-        let dt = finite_arg("dt", dt)?;
-        if dt <= 0.0 {
-            return Err(js_error(&FieldError::new("dt", "must be > 0")));
-        }
-        if dt > scenario::MAX_DT {
-            return Err(js_error(&FieldError::new(
-                "dt",
-                format!("must be ≤ {} s", scenario::MAX_DT),
-            )));
-        }
-        if steps > 100_000 {
-            return Err(js_error(&FieldError::new(
-                "steps",
-                "at most 100000 per call",
-            )));
-        }
+    pub fn advance(&mut self, dt: JsValue, steps: JsValue) -> Result<(), JsError> {
+        let dt = dt_arg(&dt)?;
+        let steps = count_arg("steps", &steps, None, MAX_STEPS_PER_CALL)?;
         for _ in 0..steps {
             self.inner.step(dt);
         }
@@ -179,8 +255,9 @@ impl WorldHandle {
     ///
     /// # Errors
     /// Only if the state cannot be converted (a bug).
-    pub fn state(&self, since: Option<u32>) -> Result<JsValue, JsError> {
-        to_js(&self.inner.state_since(since.unwrap_or(0) as usize))
+    pub fn state(&self, since: JsValue) -> Result<JsValue, JsError> {
+        let since = count_arg("since", &since, Some(0), u32::MAX)?;
+        to_js(&self.inner.state_since(since as usize))
     }
 
     /// Adds an obstacle `{ id, shape, motion? }`.
@@ -190,6 +267,12 @@ impl WorldHandle {
     #[wasm_bindgen(js_name = addObstacle)]
     pub fn add_obstacle(&mut self, spec: JsValue) -> Result<(), JsError> {
         let spec: ObstacleSpec = object_from_js("obstacle", spec)?;
+        if self.inner.obstacle_primitives().len() >= MAX_OBSTACLES {
+            return Err(js_error(&FieldError::new(
+                "obstacle",
+                format!("a World holds at most {MAX_OBSTACLES} obstacles"),
+            )));
+        }
         self.inner
             .add_obstacle(spec)
             .map_err(|e| js_error(&e.field().clone().within("obstacle")))
@@ -200,9 +283,10 @@ impl WorldHandle {
     /// # Errors
     /// `id: no obstacle "x"`; the world is unchanged.
     #[wasm_bindgen(js_name = removeObstacle)]
-    pub fn remove_obstacle(&mut self, id: &str) -> Result<(), JsError> {
+    pub fn remove_obstacle(&mut self, id: JsValue) -> Result<(), JsError> {
+        let id = string_arg("id", &id)?;
         self.inner
-            .remove_obstacle(id)
+            .remove_obstacle(&id)
             .map_err(|e| scenario_error(&e))
     }
 
@@ -211,10 +295,11 @@ impl WorldHandle {
     /// # Errors
     /// An unknown id or a bad figure; the world is unchanged.
     #[wasm_bindgen(js_name = setObstacleShape)]
-    pub fn set_obstacle_shape(&mut self, id: &str, shape: JsValue) -> Result<(), JsError> {
+    pub fn set_obstacle_shape(&mut self, id: JsValue, shape: JsValue) -> Result<(), JsError> {
+        let id = string_arg("id", &id)?;
         let shape: ShapeSpec = object_from_js("shape", shape)?;
         self.inner
-            .set_obstacle_shape(id, shape)
+            .set_obstacle_shape(&id, shape)
             .map_err(|e| scenario_error(&e))
     }
 
@@ -239,10 +324,11 @@ impl WorldHandle {
     /// # Errors
     /// An unknown id or a bad position; the world is unchanged.
     #[wasm_bindgen(js_name = moveObstacle)]
-    pub fn move_obstacle(&mut self, id: &str, position: JsValue) -> Result<(), JsError> {
+    pub fn move_obstacle(&mut self, id: JsValue, position: JsValue) -> Result<(), JsError> {
+        let id = string_arg("id", &id)?;
         let p = point3("position", &position)?;
         self.inner
-            .set_obstacle_position(id, p)
+            .set_obstacle_position(&id, p)
             .map_err(|e| scenario_error(&e))
     }
 

@@ -1,0 +1,165 @@
+// The JavaScript side of the wasm boundary (a wasm-bindgen snippet).
+//
+// Rust never walks a caller's object itself: a getter or Proxy trap that
+// throws while wasm is on the stack unwinds through it, leaks the wasm stack
+// and can leave an exported object borrowed for good. Instead every input is
+// read here, once, inside try/catch, into plain JSON text that Rust parses.
+
+/** Deepest nesting accepted (a cyclic object ends here). */
+const MAX_DEPTH = 64;
+/** Longest array accepted anywhere in an input. */
+const MAX_ARRAY = 100000;
+/** Most values (numbers, strings, …) in one input. */
+const MAX_VALUES = 1000000;
+/** Longest string accepted. */
+const MAX_STRING = 1 << 20;
+/** Marks a non-finite number (JSON has none); Rust rewords the error. */
+const NON_FINITE = 'non-finite number ';
+
+class Refused extends Error {}
+
+const at = (path, key) => (typeof key === 'number' ? `${path}[${key}]` : path ? `${path}.${key}` : key);
+const fail = (path, reason) => {
+  throw new Refused(path ? `${path}: ${reason}` : reason);
+};
+
+const message = (e) => {
+  try {
+    return e instanceof Error ? e.message : String(e);
+  } catch {
+    return 'an exception';
+  }
+};
+
+/** `encode`, naming `path` when reading the value throws (getter, Proxy trap). */
+function encode(value, path, depth, budget) {
+  try {
+    return encodeValue(value, path, depth, budget);
+  } catch (e) {
+    if (e instanceof Refused) throw e;
+    fail(path, `could not be read (${message(e)})`);
+  }
+}
+
+function encodeValue(value, path, depth, budget) {
+  if (--budget.left < 0) fail(path, `too many values (at most ${MAX_VALUES} in one input)`);
+  switch (typeof value) {
+    case 'number':
+      return Number.isFinite(value) ? JSON.stringify(value) : JSON.stringify(NON_FINITE + String(value));
+    case 'string':
+      if (value.length > MAX_STRING) fail(path, `string too long (at most ${MAX_STRING} characters)`);
+      return JSON.stringify(value);
+    case 'boolean':
+      return value ? 'true' : 'false';
+    case 'undefined':
+      return 'null';
+    case 'object':
+      break;
+    default:
+      fail(path, `expected JSON-like data, got a ${typeof value}`);
+  }
+  if (value === null) return 'null';
+  if (depth >= MAX_DEPTH) fail(path, `nested too deeply (at most ${MAX_DEPTH} levels; a cyclic object?)`);
+  if (ArrayBuffer.isView(value) && !(value instanceof DataView)) {
+    if (value.length > MAX_ARRAY) fail(path, `too many elements (at most ${MAX_ARRAY})`);
+    const parts = [];
+    for (let k = 0; k < value.length; k++) parts.push(encode(Number(value[k]), at(path, k), depth + 1, budget));
+    return `[${parts.join(',')}]`;
+  }
+  if (Array.isArray(value)) {
+    const n = value.length;
+    if (n > MAX_ARRAY) fail(path, `too many elements (at most ${MAX_ARRAY})`);
+    const parts = [];
+    for (let k = 0; k < n; k++) {
+      let v;
+      try {
+        v = value[k];
+      } catch (e) {
+        fail(at(path, k), `could not be read (${message(e)})`);
+      }
+      parts.push(encode(v, at(path, k), depth + 1, budget));
+    }
+    return `[${parts.join(',')}]`;
+  }
+  const keys = Object.keys(value);
+  if (keys.length > MAX_ARRAY) fail(path, `too many keys (at most ${MAX_ARRAY})`);
+  const parts = [];
+  for (const key of keys) {
+    let v;
+    try {
+      v = value[key];
+    } catch (e) {
+      fail(at(path, key), `could not be read (${message(e)})`);
+    }
+    if (v === undefined) continue;
+    parts.push(`${JSON.stringify(key)}:${encode(v, at(path, key), depth + 1, budget)}`);
+  }
+  return `{${parts.join(',')}}`;
+}
+
+/**
+ * `value` as JSON text (non-finite numbers tagged), or throws an `Error`
+ * whose message names `field` and the place inside it that could not be read.
+ */
+export function readJson(value, field) {
+  try {
+    return encode(value, '', 0, { left: MAX_VALUES });
+  } catch (e) {
+    if (e instanceof Refused) {
+      const msg = e.message;
+      throw new Error(field ? (msg.startsWith('[') ? `${field}${msg}` : msg.includes(': ') ? `${field}.${msg}` : `${field}: ${msg}`) : msg);
+    }
+    throw new Error(`${field || 'input'}: could not be read (${message(e)})`);
+  }
+}
+
+/** A plain copy of `value` (see `readJson`). */
+function snapshot(value, field) {
+  if (typeof value !== 'object' || value === null) return value;
+  return JSON.parse(readJson(value, field), (_k, v) =>
+    typeof v === 'string' && v.startsWith(NON_FINITE) ? Number(v.slice(NON_FINITE.length)) : v,
+  );
+}
+
+/**
+ * Guards the methods of an exported class, given one instance: each
+ * argument is read into plain data before wasm borrows the object (so a
+ * getter that throws, or calls back into the object, cannot leave it
+ * borrowed), and a freed object throws `Error: this <name> has been freed`
+ * instead of trapping; a second `free()` does nothing.
+ */
+export function guardClass(instance, name, argNames) {
+  const proto = Object.getPrototypeOf(instance);
+  if (proto.__guarded) return;
+  const freed = () => new Error(`this ${name} has been freed`);
+  for (const key of Object.getOwnPropertyNames(proto)) {
+    if (key === 'constructor' || key.startsWith('__')) continue;
+    const desc = Object.getOwnPropertyDescriptor(proto, key);
+    if (typeof desc.get === 'function') {
+      const get = desc.get;
+      Object.defineProperty(proto, key, {
+        ...desc,
+        get() {
+          if (!this.__wbg_ptr) throw freed();
+          return get.call(this);
+        },
+      });
+    } else if (typeof desc.value === 'function') {
+      const method = desc.value;
+      const names = argNames[key] || [];
+      const guarded =
+        key === 'free'
+          ? function free() {
+              if (this.__wbg_ptr) method.call(this);
+            }
+          : function (...args) {
+              if (!this.__wbg_ptr) throw freed();
+              const plain = args.map((a, i) => snapshot(a, names[i] || `argument ${i + 1}`));
+              if (!this.__wbg_ptr) throw freed();
+              return method.apply(this, plain);
+            };
+      Object.defineProperty(proto, key, { ...desc, value: guarded });
+    }
+  }
+  Object.defineProperty(proto, '__guarded', { value: true });
+}

@@ -1,0 +1,180 @@
+//! The typed boundary: every argument from JavaScript is checked for its JS
+//! type here before anything else touches it.
+//!
+//! Objects are read by `boundary.js` (inside a JS `try`, so a throwing getter
+//! or Proxy becomes one clean `Error` instead of unwinding through wasm) into
+//! JSON text that Rust parses. Scalars are checked with `typeof`-like
+//! intrinsics, which cannot throw: no silent coercion of `'0.001'`, `[1]` or
+//! `true`, and no wrapping counts.
+
+use wasm_bindgen::prelude::*;
+
+use super::convert::js_error;
+use crate::error::FieldError;
+
+#[wasm_bindgen(module = "/src/wasm/boundary.js")]
+extern "C" {
+    #[wasm_bindgen(catch, js_name = readJson)]
+    fn read_json_js(value: &JsValue, field: &str) -> Result<String, JsValue>;
+
+    #[wasm_bindgen(js_name = guardClass)]
+    fn guard_class_js(instance: &JsValue, name: &str, arg_names: &JsValue);
+}
+
+/// The JSON text of `value`, read once; an `Error` naming `field` when it
+/// cannot be read (a throwing getter or Proxy trap, a cycle, a function, a
+/// symbol, more than 100000 elements in an array).
+pub fn read_json(field: &str, value: &JsValue) -> Result<serde_json::Value, JsError> {
+    let text = read_json_js(value, field).map_err(|e| {
+        let msg = e.dyn_ref::<js_sys::Error>().map_or_else(
+            || format!("{field}: could not be read"),
+            |e| String::from(e.message()),
+        );
+        JsError::new(&msg)
+    })?;
+    serde_json::from_str(&text)
+        .map_err(|e| js_error(&FieldError::new(field, format!("could not be read ({e})"))))
+}
+
+/// Guards the methods of the class of `instance` (see `guardClass` in
+/// `boundary.js`); `arg_names` maps a method name to its argument names.
+pub fn guard_class(instance: &JsValue, name: &str, arg_names: &[(&str, &[&str])]) {
+    let map = js_sys::Object::new();
+    for (method, args) in arg_names {
+        let list = js_sys::Array::new();
+        for a in *args {
+            list.push(&JsValue::from_str(a));
+        }
+        // Setting a property on a fresh plain object cannot fail.
+        let _ = js_sys::Reflect::set(&map, &JsValue::from_str(method), &list);
+    }
+    guard_class_js(instance, name, &map);
+}
+
+/// A string argument.
+pub fn string_arg(field: &str, value: &JsValue) -> Result<String, JsError> {
+    value.as_string().ok_or_else(|| {
+        js_error(&FieldError::new(
+            field,
+            format!("expected a string, got {}", type_name(value)),
+        ))
+    })
+}
+
+/// A finite number argument (a JS `number`; strings and arrays are refused).
+pub fn number_arg(field: &str, value: &JsValue) -> Result<f64, JsError> {
+    match value.as_f64() {
+        Some(x) if x.is_finite() => Ok(x),
+        Some(_) => Err(js_error(&FieldError::new(field, "not a finite number"))),
+        None => Err(js_error(&FieldError::new(
+            field,
+            format!("expected a number, got {}", type_name(value)),
+        ))),
+    }
+}
+
+/// An integer count in `0..=max`; `default` when `undefined` (or `null`).
+pub fn count_arg(
+    field: &str,
+    value: &JsValue,
+    default: Option<u32>,
+    max: u32,
+) -> Result<u32, JsError> {
+    if (value.is_undefined() || value.is_null())
+        && let Some(d) = default
+    {
+        return Ok(d);
+    }
+    let x = number_arg(field, value)?;
+    if x.fract() != 0.0 {
+        return Err(js_error(&FieldError::new(field, "expected an integer")));
+    }
+    if x < 0.0 {
+        return Err(js_error(&FieldError::new(field, "must be >= 0")));
+    }
+    if x > f64::from(max) {
+        return Err(js_error(&FieldError::new(field, format!("at most {max}"))));
+    }
+    // In 0..=max, integral: exact.
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    Ok(x as u32)
+}
+
+/// How a JS value reads in a message (`a string`, `an array`, …).
+pub fn type_name(value: &JsValue) -> &'static str {
+    if value.is_undefined() {
+        "undefined"
+    } else if value.is_null() {
+        "null"
+    } else if value.as_bool().is_some() {
+        "a boolean"
+    } else if value.as_f64().is_some() {
+        "a number"
+    } else if value.is_string() {
+        "a string"
+    } else if value.is_symbol() {
+        "a symbol"
+    } else if value.is_bigint() {
+        "a bigint"
+    } else if value.is_function() {
+        "a function"
+    } else {
+        "an object"
+    }
+}
+
+/// Largest magnitude of any number in a scenario, a controller patch or an
+/// obstacle (keys named in [`UNBOUNDED_KEYS`] aside). Geometry has its own,
+/// tighter domain (±1e6 m, see `distance::domain` and `kinematics::spec`);
+/// this bound keeps the rest (gains, velocities, times) from overflowing.
+pub const MAX_NUMBER: f64 = 1e9;
+
+/// Keys whose numbers are identifiers rather than magnitudes.
+const UNBOUNDED_KEYS: &[&str] = &["seed"];
+
+/// Tags of variants that carry no fields: serde ignores keys beside the
+/// tag of such a variant, so they are refused here.
+const BARE_TAGS: &[&str] = &["static", "hold"];
+
+/// Every number in `json` within ±[`MAX_NUMBER`], and no key beside the
+/// `type` of a variant without fields (`{ type: "static", colour: 1 }`).
+pub fn check_magnitudes(field: &str, json: &serde_json::Value) -> Result<(), JsError> {
+    use serde_json::Value;
+    match json {
+        Value::Number(n) => match n.as_f64() {
+            Some(x) if x.abs() > MAX_NUMBER => Err(js_error(&FieldError::new(
+                field,
+                format!("must be within ±{MAX_NUMBER:e} (got {x:e})"),
+            ))),
+            _ => Ok(()),
+        },
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .try_for_each(|(k, v)| check_magnitudes(&format!("{field}[{k}]"), v)),
+        Value::Object(map) => map.iter().try_for_each(|(k, v)| {
+            let bare = map
+                .get("type")
+                .and_then(Value::as_str)
+                .is_some_and(|t| BARE_TAGS.contains(&t));
+            if bare && k != "type" {
+                let p = if field.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{field}.{k}")
+                };
+                return Err(js_error(&FieldError::new(p, "unknown field")));
+            }
+            if UNBOUNDED_KEYS.contains(&k.as_str()) {
+                return Ok(());
+            }
+            let p = if field.is_empty() {
+                k.clone()
+            } else {
+                format!("{field}.{k}")
+            };
+            check_magnitudes(&p, v)
+        }),
+        _ => Ok(()),
+    }
+}

@@ -1,0 +1,230 @@
+// The boundary fuzz layer (issue 13): every export and every World method,
+// called by a seeded hostile caller for a bounded time. It asserts that
+//   * only plain `Error`s are thrown (never a wasm `RuntimeError`), each
+//     naming a field (`field: reason`) or the freed World;
+//   * every accepted result is finite (no NaN or ±Infinity anywhere);
+//   * a refused World edit leaves `state()` byte-identical;
+//   * no call takes more than a second;
+//   * the module still answers after every call.
+//
+//   FUZZ_SEED=n FUZZ_SECONDS=s node --test tests/fuzz/
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { createRequire } from 'node:module';
+import { rng, hostile, mutate } from './values.mjs';
+
+const require = createRequire(import.meta.url);
+const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
+
+const SEED = Number(process.env.FUZZ_SEED ?? 13);
+const SECONDS = Number(process.env.FUZZ_SECONDS ?? 40);
+const MIN_CALLS = Number(process.env.FUZZ_MIN_CALLS ?? 50000);
+
+// Valid inputs to start from (each mutated into hostile variants).
+const PRIMITIVES = [
+  { type: 'point', p: [0, 0, 1] },
+  { type: 'segment', a: [0, 0, 0], b: [1, 0, 0] },
+  { type: 'sphere', center: [0.5, 0.2, 0], radius: 0.1 },
+  { type: 'capsule', a: [0, 1, 0], b: [1, 1, 0], radius: 0.05 },
+  { type: 'plane', normal: [0, 0, 1], offset: 0.1 },
+  { type: 'rectangle', center: [0, 0, 1], axes: [[1, 0, 0], [0, 1, 0]], halfExtents: [0.2, 0.1] },
+  { type: 'disk', center: [0, 0, 2], normal: [0, 0, 1], radius: 0.3 },
+  { type: 'polygon', vertices: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.0]] },
+  { type: 'box', center: [2, 0, 0], halfExtents: [0.1, 0.2, 0.3], rotation: [0, 0, 0, 1] },
+  { type: 'convexHull', points: [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]] },
+];
+const ROBOTS = [
+  'planar3',
+  { preset: 'lwr4' },
+  sa.robotPreset('planar3'),
+  { convention: 'standard', joints: [{ a: 0.4, alpha: 0, d: 0, theta: 0 }, { a: 0.3, alpha: 0, d: 0, theta: 0, radius: [0.05, 0.03] }] },
+];
+const Q = { planar3: [0.1, 0.2, 0.3], lwr4: [0, 0.3, 0, -1, 0, 0.5, 0] };
+const SCENARIOS = sa.exampleScenarioNames().map((n) => {
+  const s = sa.exampleScenario(n);
+  s.duration = Math.min(s.duration, 20 * s.dt);
+  return s;
+});
+const OBSTACLE = { id: 'fuzz', shape: { type: 'sphere', center: [0.3, 0.3, 0.3], radius: 0.05 }, motion: { type: 'linear', velocity: [0, 0, 0.1] } };
+const CONTROLLER = { mode: 'torque', influenceDistance: 0.3, damping: { epsilon: 0.05, lambdaMax: 0.05 } };
+const URDF = `<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>`;
+
+/** An argument: valid, a mutated valid one, or anything. */
+function arg(r, valid) {
+  const x = r.next();
+  if (x < 0.3) return typeof valid === 'function' ? valid() : valid;
+  if (x < 0.75) return mutate(r, typeof valid === 'function' ? valid() : valid);
+  return hostile(r);
+}
+
+const robotQ = (r) => {
+  const robot = r.pick(ROBOTS);
+  const name = typeof robot === 'string' ? robot : robot.preset ?? robot.name ?? 'planar2';
+  const q = Q[name] ?? (name === 'planar2' ? [0.1, 0.2] : [0.1, 0.2, 0.3]);
+  return [robot, q];
+};
+
+/** The free functions, each with a generator of (mostly hostile) arguments. */
+const FUNCTIONS = {
+  robotPreset: (r) => [arg(r, r.pick(sa.presetNames()))],
+  presetNames: () => [],
+  exampleScenarioNames: () => [],
+  exampleScenario: (r) => [arg(r, r.pick(sa.exampleScenarioNames()))],
+  forwardKinematics: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q)]; },
+  skeleton: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q)]; },
+  controlPoint: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q), arg(r, { link: 2, d: 0, a: 0.1 }), r.chance(0.5) ? undefined : arg(r, { qdot: q.map(() => 0.1), aRate: 0.1 })]; },
+  skeletonPoint: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q), arg(r, { segment: 0, t: 0.5 })]; },
+  distance: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, r.pick(PRIMITIVES))],
+  simulate: (r) => [arg(r, r.pick(SCENARIOS))],
+  robotFromUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, { tip: 'b' })],
+  benchControlStep: (r) => [arg(r, r.int(3)), r.chance(0.5) ? undefined : arg(r, r.int(3))],
+  benchKinematicsStep: (r) => [arg(r, 'planar3'), arg(r, r.int(3))],
+};
+
+/** World methods: [name, args, edits?]. */
+const METHODS = [
+  ['step', (r) => [arg(r, 0.001)]],
+  ['advance', (r) => [arg(r, 0.001), arg(r, r.int(5))]],
+  ['state', (r) => [r.chance(0.5) ? undefined : arg(r, 0)]],
+  ['addObstacle', (r) => [arg(r, { ...OBSTACLE, id: `o${r.int(4)}` })], true],
+  ['removeObstacle', (r) => [arg(r, r.pick(['o0', 'o1', 'ball', 'person']))], true],
+  ['setObstacleShape', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, r.pick(PRIMITIVES))], true],
+  ['moveObstacle', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, [0.2, 0.1, 0.3])], true],
+  ['setController', (r) => [arg(r, CONTROLLER)], true],
+  ['pick', (r) => [arg(r, [0, 0, 2]), arg(r, [0, 0, -1])]],
+  ['reset', () => []],
+];
+
+/** Where a non-finite number hides in `v`, or null. */
+function nonFinite(v, path = '') {
+  if (typeof v === 'number') return Number.isFinite(v) ? null : `${path} = ${v}`;
+  if (v && typeof v === 'object') {
+    for (const [k, x] of Object.entries(v)) {
+      const bad = nonFinite(x, `${path}.${k}`);
+      if (bad) return bad;
+    }
+  }
+  return null;
+}
+
+/** Names the field (`path: reason`) or the freed World. */
+const NAMES_FIELD = /^([A-Za-z_$][\w$]*|\[\d+\])([.\w$\[\]-]*): \S|^this World has been freed$/;
+
+const sanity = () => sa.distance({ type: 'point', p: [0, 0, 0] }, { type: 'point', p: [0, 0, 1] }).distance === 1;
+
+const describe = (args) =>
+  args.map((a) => {
+    try {
+      return typeof a === 'bigint' || typeof a === 'symbol' ? String(a) : JSON.stringify(a)?.slice(0, 120);
+    } catch {
+      return Object.prototype.toString.call(a);
+    }
+  });
+
+test(`boundary fuzz: every export and World method, seed ${SEED}, ${SECONDS} s`, () => {
+  const r = rng(SEED);
+  const stats = { calls: 0, accepted: 0, refused: 0, editsRefused: 0, freedCalls: 0, slowest: 0 };
+  const failures = [];
+  const fail = (what, name, args, detail) => {
+    if (failures.length < 20) failures.push(`${what} in ${name}(${describe(args).join(', ')}): ${detail}`);
+  };
+  const call = (name, fn, args, self) => {
+    stats.calls++;
+    const t = performance.now();
+    let out;
+    let err;
+    try {
+      out = fn.apply(self, args);
+    } catch (e) {
+      err = e;
+    }
+    const ms = performance.now() - t;
+    stats.slowest = Math.max(stats.slowest, ms);
+    if (ms > 1000) fail('hang', name, args, `${ms.toFixed(0)} ms`);
+    if (err !== undefined) {
+      stats.refused++;
+      if (!(err instanceof Error) || err instanceof WebAssembly.RuntimeError || err.constructor !== Error) {
+        fail('bad throw', name, args, `${err?.constructor?.name}: ${err?.message ?? err}`);
+      } else if (!NAMES_FIELD.test(err.message)) {
+        fail('message names no field', name, args, err.message);
+      }
+    } else {
+      stats.accepted++;
+      const bad = nonFinite(out);
+      if (bad) fail('non-finite output', name, args, bad);
+    }
+    if (!sanity()) fail('module broken', name, args, 'distance() no longer answers');
+    return err === undefined;
+  };
+
+  const fresh = () => new sa.World(structuredClone(r.pick(SCENARIOS)));
+  let world = fresh();
+  const deadline = performance.now() + SECONDS * 1000;
+  while ((performance.now() < deadline || stats.calls < MIN_CALLS) && failures.length < 20) {
+    if (performance.now() > deadline + 120000) break;
+    const x = r.next();
+    if (x < 0.45) {
+      const name = r.pick(Object.keys(FUNCTIONS));
+      call(name, sa[name], FUNCTIONS[name](r), null);
+    } else if (x < 0.97) {
+      const [name, gen, edits] = r.pick(METHODS);
+      const args = gen(r);
+      const before = edits ? JSON.stringify(world.state()) : null;
+      const ok = call(`World.${name}`, world[name], args, world);
+      if (edits && !ok) {
+        stats.editsRefused++;
+        if (JSON.stringify(world.state()) !== before) fail('refused edit changed the World', name, args, 'state() differs');
+      }
+      if (world.time > 1) world.reset();
+    } else if (x < 0.985) {
+      call('new World', (s) => new sa.World(s), [arg(r, structuredClone(r.pick(SCENARIOS)))], null);
+    } else {
+      // Use after free, and a second free.
+      world.free();
+      const [name, gen] = r.pick(METHODS);
+      stats.freedCalls++;
+      call(`freed World.${name}`, world[name], gen(r), world);
+      call('freed World.free', world.free, [], world);
+      world = fresh();
+    }
+  }
+  world.free();
+  console.log(
+    `fuzz: seed ${SEED}: ${stats.calls} calls, ${stats.accepted} accepted, ${stats.refused} refused with an Error ` +
+      `(${stats.editsRefused} refused World edits left state() identical, ${stats.freedCalls} calls on freed Worlds), ` +
+      `slowest call ${stats.slowest.toFixed(0)} ms, ${failures.length} failures`,
+  );
+  assert.deepEqual(failures, []);
+  assert.ok(stats.calls >= MIN_CALLS, `only ${stats.calls} calls`);
+});
+
+test('the throwing getter that used to poison a World leaves it usable', () => {
+  const w = new sa.World(sa.exampleScenario('planar-transition'));
+  for (let k = 0; k < 3000; k++) {
+    assert.throws(() => w.setController({ get mode() { throw new Error('boom'); } }), /^Error: controller\.mode: could not be read \(boom\)$/);
+    assert.throws(() => sa.distance({ type: 'point', get p() { throw new Error('boom'); } }, { type: 'point', p: [0, 0, 0] }), /a\.p: could not be read/);
+  }
+  // A getter that steps the World it is being passed to.
+  w.addObstacle({ id: 'x', get shape() { w.step(0.001); return { type: 'point', p: [1, 1, 1] }; } });
+  w.step(0.001);
+  assert.ok(w.state().obstacles.some((o) => o.id === 'x'));
+  w.free();
+  assert.throws(() => w.step(0.001), /^Error: this World has been freed$/);
+  w.free(); // a second free does nothing
+});
+
+test('scalars are not coerced and counts do not wrap', () => {
+  const w = new sa.World(sa.exampleScenario('planar-transition'));
+  assert.throws(() => w.step('0.001'), /dt: expected a number, got a string/);
+  assert.throws(() => w.step([0.001]), /dt: expected a number, got an object/);
+  assert.throws(() => w.step(true), /dt: expected a number, got a boolean/);
+  assert.throws(() => w.advance(0.001, NaN), /steps: not a finite number/);
+  assert.throws(() => w.advance(0.001, 2 ** 32), /steps: at most 100000/);
+  assert.throws(() => w.advance(0.001, -1), /steps: must be >= 0/);
+  assert.throws(() => w.state('x'), /since: expected a number/);
+  assert.throws(() => sa.benchControlStep(-1), /iterations: must be >= 0/);
+  assert.throws(() => sa.benchKinematicsStep('lwr4', 2 ** 40), /iterations: at most/);
+  assert.throws(() => sa.exampleScenario(0), /name: expected a string, got a number/);
+  assert.throws(() => w.removeObstacle(['ball']), /id: expected a string, got an object/);
+  w.free();
+});
