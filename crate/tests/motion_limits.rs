@@ -176,6 +176,66 @@ fn obstacles_approaching_every_link_of_every_preset() {
     }
 }
 
+/// The adversarial cases: an obstacle that appears suddenly close to the
+/// arm (a waypoint jump), and one that approaches a node, on the boundary
+/// between two segments, where the closest segment is ambiguous.
+#[test]
+fn sudden_obstacles_and_obstacles_at_a_node() {
+    for name in ["planar3", "panda", "lwr4"] {
+        let robot = Robot::from_spec(&presets::preset(name).unwrap()).unwrap();
+        let q0 = middle_q(&robot);
+        let frames = robot.forward(&q0).unwrap();
+        let sk = skeleton_avoidance::skeleton::Skeleton::build(&robot, &frames);
+        for node in 1..sk.nodes.len() - 1 {
+            let p = sk.nodes[node];
+            let dir = (p - sk.nodes[0]).normalize_or(glam::DVec3::X);
+            let side = dir.any_orthonormal_vector();
+            let base = |obstacle: ObstacleSpec| Scenario {
+                robot: RobotRef::Preset(name.to_owned()),
+                q0: Some(q0.clone()),
+                obstacles: vec![obstacle],
+                task: TaskSpec::Hold.into(),
+                controller: Default::default(),
+                sensing: Default::default(),
+                dependability: Default::default(),
+                dt: 0.001,
+                duration: 1.5,
+                sample_every: 1,
+            };
+            // Towards the node at 0.3 m/s.
+            let s = base(sphere("ball", p + side * 0.4, 0.04, -side * 0.3));
+            check(
+                &format!("{name} node {node} approach"),
+                &robot,
+                &simulate(&s).unwrap(),
+            );
+            // Far away, then 12 cm from the node at t = 0.2 s, then closing in.
+            let jump = ObstacleSpec {
+                id: "ball".to_owned(),
+                shape: ShapeSpec::Primitive(PrimitiveSpec::Sphere(SphereSpec {
+                    center: (p + side * 0.16).to_array(),
+                    radius: 0.04,
+                })),
+                motion: Some(Motion::Waypoints {
+                    points: vec![
+                        [3.0, 3.0, 3.0],
+                        [3.0, 3.0, 3.0],
+                        [0.0; 3],
+                        (-side * 0.2).to_array(),
+                    ],
+                    times: vec![0.0, 0.2, 0.2, 1.2],
+                    repeat: false,
+                }),
+            };
+            check(
+                &format!("{name} node {node} sudden"),
+                &robot,
+                &simulate(&base(jump)).unwrap(),
+            );
+        }
+    }
+}
+
 /// With zero repulsion gain and a hold task, a control point travelling
 /// from link 1 to link 3 of planar3 does not move the arm; it arrives at
 /// the middle of link 3 after 0.3 s (paper §III-B, fig. 5).

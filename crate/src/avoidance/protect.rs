@@ -200,8 +200,14 @@ impl Guard {
     /// `qdot`, exceeds this guard's bound.
     #[must_use]
     pub fn breached(&self, qdot: &[f64]) -> bool {
-        let v: f64 = self.row.iter().zip(qdot).map(|(r, q)| r * q).sum();
+        let v = self.approach(qdot);
         v > 0.0 && v > self.bound + GUARD_TOLERANCE
+    }
+
+    /// The pair's approach speed (m/s) with joint velocities `qdot`.
+    #[must_use]
+    pub fn approach(&self, qdot: &[f64]) -> f64 {
+        self.row.iter().zip(qdot).map(|(r, q)| r * q).sum()
     }
 }
 

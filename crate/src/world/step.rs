@@ -18,6 +18,10 @@ use crate::transition::dh_motion;
 
 use super::state::ControlPointState;
 
+/// Factor on the braking time when deciding that an obstacle outruns the
+/// arm's retreat (see [`World::protect`]).
+const OUTRUN_MARGIN: f64 = 1.5;
+
 impl World {
     /// Advances the simulation by `dt` seconds (one control step). A
     /// non-finite or non-positive `dt` does nothing.
@@ -328,8 +332,21 @@ impl World {
         let mut out = Vec::with_capacity(self.request.len());
         let result = protect::project(&self.request, weights, &lo, &hi, &guards, &mut out);
         self.request = out;
+        // Unavoidable: the guards cannot all be met, or an obstacle closes in
+        // so fast that its guard asks for a retreat the arm is not making:
+        // stop now, so that the arm is at rest when contact begins.
+        // (with the braking time stretched by OUTRUN_MARGIN: the decision
+        // must come while a stop still ends before the obstacle arrives).
+        let outrun = guards.iter().enumerate().find_map(|(k, g)| {
+            let pair = self.guard_pairs.get(k)?;
+            let approach = g.approach(&self.motion.qdot);
+            let gaining = pair.obstacle_speed > 0.0 && approach + pair.obstacle_speed > 0.0;
+            let late = p.bound(pair.distance, pair.obstacle_speed, OUTRUN_MARGIN * braking);
+            (gaining && late < 0.0 && approach > late).then_some((k, approach - late))
+        });
+        let doomed = result.worst.map(|k| (k, result.violation)).or(outrun);
         let mut now = std::collections::BTreeSet::new();
-        if let Some(k) = result.worst {
+        if let Some((k, excess)) = doomed.filter(|_| !self.stopped) {
             let g = &guards[k];
             let key = g.obstacle.unwrap_or(usize::MAX);
             now.insert(key);
@@ -342,7 +359,7 @@ impl World {
                     obstacle: obstacle.clone(),
                     segment: g.segment,
                     distance: g.distance,
-                    excess: result.violation,
+                    excess,
                 });
                 let hold = self.scenario.dependability.lock_time;
                 self.stop(
@@ -362,13 +379,17 @@ impl World {
     fn limit_and_integrate(&mut self, dt: f64) {
         self.step_t = self.t;
         self.step_q.clone_from(&self.q);
+        // A chattering stop decelerates gently (`maxDeceleration`); a stop
+        // before an unavoidable contact and the emergency brake use every
+        // joint's full deceleration.
+        let urgent = self.braking || self.stop_reason == Some(StopReason::Unavoidable);
         let options = limits::StepOptions {
-            max_acceleration: if self.stopped {
+            max_acceleration: if self.stopped && !urgent {
                 self.scenario.dependability.max_deceleration
             } else {
                 f64::INFINITY
             },
-            synchronise: !self.braking,
+            synchronise: !urgent,
         };
         limits::step_with(
             &self.robot,
