@@ -62,8 +62,9 @@ impl Skeleton {
 }
 
 /// Translations shorter than this (m) add no node: the node would coincide
-/// with the one before it.
-pub const NODE_TOLERANCE: f64 = 1e-6;
+/// with the one before it (defined with the robot model, which uses it to
+/// find a row's skeleton parent; dependencies point skeleton → kinematics).
+pub use crate::kinematics::NODE_TOLERANCE;
 
 impl Skeleton {
     /// Builds the skeleton of `robot` at the configuration of `frames`.

@@ -382,3 +382,56 @@ fn joint_weights_shift_motion_to_lighter_joints() {
     assert!(heavy < 0.5 * plain, "{heavy} vs {plain}");
     let _ = Selection::Pairs;
 }
+
+/// One task per chain: each arm of the two-arm torso reaches its own goal.
+#[test]
+fn each_arm_of_the_torso_reaches_its_own_goal() {
+    let robot = Robot::from_spec(&presets::preset("dual-arm").unwrap()).unwrap();
+    let mut q0 = vec![0.0; robot.dof()];
+    for arm in [1, 8] {
+        q0[arm + 1] = 0.6;
+        q0[arm + 3] = -1.2;
+        q0[arm + 5] = 0.6;
+    }
+    let frames = robot.forward(&q0).unwrap();
+    let goal = |chain: usize, dz: f64| {
+        let p = frames.end_effectors[chain].translation + glam::DVec3::new(0.05, 0.0, dz);
+        TaskSpec::Goal {
+            position: p.to_array(),
+            orientation: None,
+            chain,
+        }
+    };
+    let goals = vec![goal(1, 0.08), goal(2, -0.08)];
+    let s = Scenario {
+        robot: RobotRef::Preset("dual-arm".to_owned()),
+        q0: Some(q0),
+        obstacles: Vec::new(),
+        task: scenario::Tasks::Many(goals.clone()),
+        controller: Default::default(),
+        sensing: Default::default(),
+        dependability: Default::default(),
+        dt: 0.001,
+        duration: 3.0,
+        sample_every: 1,
+    };
+    let trace = simulate(&s).unwrap();
+    check("dual-arm two goals", &robot, &trace);
+    let end = robot.forward(&trace.samples.last().unwrap().q).unwrap();
+    for (chain, g) in [(1, &goals[0]), (2, &goals[1])] {
+        let TaskSpec::Goal { position, .. } = g else {
+            unreachable!()
+        };
+        let err =
+            (end.end_effectors[chain].translation - glam::DVec3::from_array(*position)).length();
+        assert!(err < 2e-3, "chain {chain}: {err}");
+    }
+    // Two tasks for one chain are refused.
+    let mut bad = s.clone();
+    bad.task = scenario::Tasks::Many(vec![goal(1, 0.0), goal(1, 0.1)]);
+    let e = bad.validate().unwrap_err().to_string();
+    assert!(
+        e.contains("task[1].chain: chain 1 already has a task"),
+        "{e}"
+    );
+}

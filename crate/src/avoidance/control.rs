@@ -363,3 +363,68 @@ pub fn clik2_control(
     };
     Ok(qdot.iter().zip(&qdd).map(|(v, a)| v + a * dt).collect())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control_point::DhPoint;
+    use crate::kinematics::ik::PointMotion;
+    use crate::kinematics::presets;
+
+    /// The fade survives the pseudoinverse: with the tasks asking for rest,
+    /// the commanded repulsion at the point is `h(d) v(d)` over the whole
+    /// band, not the full `v(d)` as soon as `h |nᵀJ|` passes the damping
+    /// threshold.
+    #[test]
+    fn a_row_fades_in_over_the_whole_activation_band() {
+        let spec = presets::preset("planar3").unwrap_or_else(|e| unreachable!("{e}"));
+        let robot = Robot::from_spec(&spec).unwrap_or_else(|e| unreachable!("{e}"));
+        let q = [0.3, 0.9, 0.6];
+        let frames = robot.forward(&q).unwrap_or_else(|e| unreachable!("{e}"));
+        let dh = DhPoint {
+            link: 2,
+            d: 0.0,
+            a: 0.15,
+        };
+        let mut config = ControllerConfig {
+            repulsion_gain: 0.02,
+            ..ControllerConfig::default()
+        };
+        config.max_repulsion_speed = 10.0;
+        let jac = dh.jacobians(&robot, &frames);
+        let normal = glam::DVec3::new(0.0, 1.0, 0.0);
+        let hold = TaskReference {
+            position: frames.end_effector().translation,
+            velocity: glam::DVec3::ZERO,
+            acceleration: glam::DVec3::ZERO,
+            orientation: None,
+            chain: 0,
+            point: None,
+        };
+        let rho = config.influence_distance;
+        let mut fractions = Vec::new();
+        for k in 1..20 {
+            let d = rho * (1.0 - config.activation_band * f64::from(k) / 20.0);
+            let p = ActivePoint {
+                dh,
+                motion: PointMotion::default(),
+                normal,
+                distance: d,
+            };
+            let qdot = velocity_control(&robot, &frames, &[p], &[hold], &config)
+                .unwrap_or_else(|e| unreachable!("{e}"));
+            let v: glam::DVec3 = jac.j_theta.iter().zip(&qdot).map(|(c, w)| *c * *w).sum();
+            let effect = -normal.dot(v);
+            let full = repulsion_speed(d, &config);
+            let h = activation(d, &config);
+            assert!(
+                (effect - h * full).abs() <= 1e-6 * full,
+                "d {d}: {effect} vs {}",
+                h * full
+            );
+            fractions.push(effect / full);
+        }
+        assert!(fractions.windows(2).all(|w| w[1] >= w[0]));
+        assert!(fractions[0] < 0.05 && fractions[18] > 0.95);
+    }
+}

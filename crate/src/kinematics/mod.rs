@@ -42,6 +42,10 @@ pub struct Chain {
     pub tool: DAffine3,
 }
 
+/// Translations shorter than this (m) add no skeleton node: the node would
+/// coincide with the one before it.
+pub const NODE_TOLERANCE: f64 = 1e-6;
+
 /// A validated robot: DH rows, base pose, chains.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Robot {
@@ -172,12 +176,12 @@ impl Robot {
     }
 
     /// Whether row `link` (1-based) adds a segment to the skeleton: a
-    /// translation of at least [`crate::skeleton::NODE_TOLERANCE`], a
+    /// translation of at least [`NODE_TOLERANCE`], a
     /// prismatic joint, or an extension.
     #[must_use]
     pub fn has_segment(&self, link: usize) -> bool {
         let j = &self.joints[link - 1];
-        let tol = crate::skeleton::NODE_TOLERANCE;
+        let tol = NODE_TOLERANCE;
         j.kind == JointType::Prismatic || j.d.abs() >= tol || j.a.abs() >= tol || j.extension >= tol
     }
 

@@ -757,12 +757,13 @@ pub struct Trace {
 }
 
 /// Names of the example scenarios shipped with the crate.
-pub const EXAMPLE_NAMES: [&str; 5] = [
+pub const EXAMPLE_NAMES: [&str; 6] = [
     "planar-transition",
     "lwr4-elbow",
     "human-panda",
     "dual-arm-self",
     "chattering",
+    "sliding-point",
 ];
 
 /// The JSON text of example `name`.
@@ -776,6 +777,7 @@ pub fn example_json(name: &str) -> Result<&'static str, FieldError> {
         "human-panda" => include_str!("../../../scenarios/human-panda.json"),
         "dual-arm-self" => include_str!("../../../scenarios/dual-arm-self.json"),
         "chattering" => include_str!("../../../scenarios/chattering.json"),
+        "sliding-point" => include_str!("../../../scenarios/sliding-point.json"),
         _ => {
             return Err(FieldError::new(
                 "name",
