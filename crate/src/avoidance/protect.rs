@@ -113,6 +113,8 @@ pub struct Guard {
     pub bound: f64,
     /// Clearance of the pair (m).
     pub distance: f64,
+    /// Approach speed of the obstacle itself (m/s).
+    pub obstacle_speed: f64,
     /// Skeleton segment of the pair.
     pub segment: usize,
     /// Obstacle index (`None` for a self-collision pair).
@@ -182,12 +184,24 @@ pub fn guards(
                 *r -= p.normal.dot(*c);
             }
         }
+        let bound = config
+            .bound(p.distance, p.obstacle_speed, braking)
+            .max(floor);
+        // A guard the joints cannot reach within their speed limits can
+        // never be active: leave it out of the QP.
+        let reach: f64 = row
+            .iter()
+            .zip(&robot.joints)
+            .map(|(r, j)| r.abs() * j.max_velocity)
+            .sum();
+        if bound >= reach {
+            continue;
+        }
         out.push(Guard {
             row,
-            bound: config
-                .bound(p.distance, p.obstacle_speed, braking)
-                .max(floor),
+            bound,
             distance: p.distance,
+            obstacle_speed: p.obstacle_speed,
             segment: p.segment,
             obstacle: p.obstacle,
         });

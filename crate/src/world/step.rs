@@ -338,10 +338,9 @@ impl World {
         // (with the braking time stretched by OUTRUN_MARGIN: the decision
         // must come while a stop still ends before the obstacle arrives).
         let outrun = guards.iter().enumerate().find_map(|(k, g)| {
-            let pair = self.guard_pairs.get(k)?;
             let approach = g.approach(&self.motion.qdot);
-            let gaining = pair.obstacle_speed > 0.0 && approach + pair.obstacle_speed > 0.0;
-            let late = p.bound(pair.distance, pair.obstacle_speed, OUTRUN_MARGIN * braking);
+            let gaining = g.obstacle_speed > 0.0 && approach + g.obstacle_speed > 0.0;
+            let late = p.bound(g.distance, g.obstacle_speed, OUTRUN_MARGIN * braking);
             (gaining && late < 0.0 && approach > late).then_some((k, approach - late))
         });
         let doomed = result.worst.map(|k| (k, result.violation)).or(outrun);
