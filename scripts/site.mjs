@@ -34,6 +34,10 @@ for (const f of fs.readdirSync(web)) {
 for (const f of ['skeleton_avoidance.js', 'skeleton_avoidance_bg.wasm', 'skeleton_avoidance.d.ts', 'package.json']) {
   if (fs.existsSync(path.join(pkg, f))) fs.copyFileSync(path.join(pkg, f), path.join(dist, 'pkg', f));
 }
+// The JS the module imports beside itself (the input boundary, wasm-bindgen's snippets/).
+if (fs.existsSync(path.join(pkg, 'snippets'))) {
+  fs.cpSync(path.join(pkg, 'snippets'), path.join(dist, 'pkg', 'snippets'), { recursive: true });
+}
 
 // The release build of crate/pkg is already shrunk by wasm-opt -Oz
 // (scripts/build.mjs, cached by hash).
