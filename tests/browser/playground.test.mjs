@@ -227,7 +227,7 @@ test('npm run build: the static site in dist/ serves the docs page on its own', 
     const errors = collectErrors(page);
     await page.goto(`${site.url}docs.html`);
     const n = await page.evaluate(() => Promise.all([...document.querySelectorAll('skeleton-playground')].map((e) => e.ready)).then((r) => r.length));
-    assert.equal(n, 3);
+    assert.equal(n, 4);
     // Each widget runs once scrolled into view.
     for (const widget of await page.locator('skeleton-playground').all()) {
       await widget.scrollIntoViewIfNeeded();
