@@ -5,7 +5,7 @@
 //! ([`crate::kinematics::Joint`]: `max_velocity`, `max_acceleration`,
 //! `max_jerk`) and stop before their position limits.
 //!
-//! [`JointLimiter::step`] is an online, jerk-limited velocity tracker, the
+//! [`step`] is an online, jerk-limited velocity tracker, the
 //! role Ruckig's velocity interface plays on real controllers, computed in
 //! closed form per joint so that it costs a few hundred nanoseconds:
 //!
