@@ -55,6 +55,7 @@ pub mod dependability;
 pub mod distance;
 pub mod error;
 pub mod kinematics;
+pub mod linalg;
 pub mod math;
 pub mod rng;
 pub mod scenario;
