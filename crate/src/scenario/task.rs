@@ -20,8 +20,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{TimeOrder, check_timed_points, unit_quat};
 use crate::avoidance::TaskReference;
-use crate::control_point::DhPoint;
-use crate::control_point::PointMotion;
+use crate::control_point::{DhPoint, PointMotion};
 use crate::error::{FieldError, finite3, non_negative, positive};
 use crate::kinematics::{Frames, Robot};
 
