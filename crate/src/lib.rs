@@ -49,6 +49,8 @@
 //! Every fallible function returns a typed error whose message names the field
 //! and the reason; nothing in the core panics on user input.
 
+#![warn(missing_docs)]
+
 pub mod avoidance;
 pub mod control_point;
 pub mod dependability;

@@ -8,7 +8,7 @@ use crate::error::FieldError;
 
 /// The description of a primitive as it crosses the JavaScript boundary
 /// (`{ type: "sphere", center: [x, y, z], radius }`, …). Validate it with
-/// [`Primitive::from_spec`].
+/// [`Primitive::from_spec`](super::Primitive::from_spec).
 ///
 /// It serialises as an internally tagged enum. It deserialises through a flat
 /// struct holding every key any figure uses, then checks that the keys fit
