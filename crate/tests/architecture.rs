@@ -118,3 +118,51 @@ fn the_list_covers_every_lower_file() {
     listed.sort();
     assert_eq!(files, listed);
 }
+
+const LIB: &str = include_str!("../src/lib.rs");
+const README: &str = include_str!("../../README.md");
+
+/// The modules `lib.rs` declares (`pub mod x;` or `mod x;`).
+fn declared_modules() -> Vec<String> {
+    LIB.lines()
+        .filter_map(|l| {
+            let l = l.trim();
+            let rest = l
+                .strip_prefix("pub mod ")
+                .or_else(|| l.strip_prefix("mod "))?;
+            Some(rest.trim_end_matches(';').to_owned())
+        })
+        .collect()
+}
+
+/// The modules README's architecture table names (`` | `x.rs` | `` or
+/// `` | `x/` | ``), in the section "Architecture".
+fn readme_modules() -> Vec<String> {
+    let section = README
+        .split("\n## Architecture")
+        .nth(1)
+        .and_then(|s| s.split("\n## ").next())
+        .expect("README has an Architecture section");
+    section
+        .lines()
+        .filter_map(|l| {
+            let cell = l.strip_prefix("| `")?.split('`').next()?;
+            let name = cell
+                .strip_suffix(".rs")
+                .or_else(|| cell.strip_suffix('/'))?;
+            Some(name.to_owned())
+        })
+        .collect()
+}
+
+#[test]
+fn readme_architecture_table_matches_lib_modules() {
+    let mut declared = declared_modules();
+    let mut described = readme_modules();
+    declared.sort();
+    described.sort();
+    assert_eq!(
+        declared, described,
+        "lib.rs modules vs README's architecture table"
+    );
+}
