@@ -25,6 +25,8 @@ const layers = [
     return run('cargo', [...args, '--all-features', ...lints]) || run('cargo', [...args, ...lints]);
   }],
   ['cargo-test', 'native unit, integration and doc tests', () => run('cargo', ['test', '--workspace'])],
+  ['doc', 'cargo doc --no-deps with RUSTDOCFLAGS=-D warnings (broken links, missing docs)', () =>
+    run('cargo', ['doc', '--workspace', '--no-deps'], { env: { RUSTDOCFLAGS: '-D warnings' } })],
   ['wasm-node', 'wasm-pack test --node: the numerics compiled to wasm', () =>
     // `--lib --test '*'` keeps doctests (native only) out of the wasm run.
     run('wasm-pack', ['test', '--node', '--mode', 'no-install', '--', '--lib', '--test', '*'], { cwd: crate })],

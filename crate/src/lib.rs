@@ -14,16 +14,17 @@
 //!
 //! | module | what it holds | paper |
 //! |---|---|---|
-//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, URDF import, forward kinematics, IK | §II, §III |
+//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, URDF import, forward kinematics, end-effector IK (6-D CLIK) | §II, §III |
 //! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
-//! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives | §III-A, eq. 2–4 |
+//! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives; first- and second-order CLIK of a moving point (`clik`) | §III-A, eq. 2–4 |
 //! | [`transition`] | a control point travelling along the skeleton through the nodes, one quintic per DH value (C2) | §III-B, fig. 5 |
 //! | [`avoidance`] | control-point selection, repulsion, velocity / torque / second-order CLIK controllers with task priority and joint weights, the protective layer (guards solved as a small QP) and the jerk-limited joint limiter | §II, §III-A |
 //! | [`dependability`] | sensing errors, margin propagation, switch risk, chattering (stop or lock), time to collision, events | §IV |
 //! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples | — |
 //! | [`world`] | a live simulation: the control step as a pipeline of stages, obstacle edits, picking, `simulate` | — |
+//! | [`linalg`] | small dense matrices, symmetric eigen-decomposition, the weighted damped least-squares inverse; depends on nothing else in the crate | §III-A |
 //! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
-//! | [`distance`] | primitives, closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
+//! | [`distance`] | primitives (`primitive/`: one file per group of figures, `spec.rs` for the JS description), closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
 //! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
 //! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground | — |
 //!
@@ -49,12 +50,15 @@
 //! Every fallible function returns a typed error whose message names the field
 //! and the reason; nothing in the core panics on user input.
 
+#![warn(missing_docs)]
+
 pub mod avoidance;
 pub mod control_point;
 pub mod dependability;
 pub mod distance;
 pub mod error;
 pub mod kinematics;
+pub mod linalg;
 pub mod math;
 pub mod rng;
 pub mod scenario;

@@ -23,8 +23,8 @@ use glam::{DAffine3, DQuat};
 
 pub use frames::Frames;
 pub use spec::{
-    BranchSpec, Convention, DEFAULT_RADIUS, Joint, JointSpec, JointType, MAX_MAGNITUDE, MAX_RADIUS,
-    PoseSpec, RadiusSpec, RobotSpec, UNIT_QUAT_TOLERANCE,
+    BranchSpec, Convention, DEFAULT_LIMITS, DEFAULT_RADIUS, Joint, JointSpec, JointType, Limits,
+    MAX_MAGNITUDE, MAX_RADIUS, PoseSpec, RadiusSpec, RobotSpec, UNIT_QUAT_TOLERANCE,
 };
 
 use crate::error::FieldError;

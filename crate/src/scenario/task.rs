@@ -20,9 +20,8 @@ use serde::{Deserialize, Serialize};
 
 use super::{TimeOrder, check_timed_points, unit_quat};
 use crate::avoidance::TaskReference;
-use crate::control_point::DhPoint;
+use crate::control_point::{DhPoint, PointMotion};
 use crate::error::{FieldError, finite3, non_negative, positive};
-use crate::kinematics::ik::PointMotion;
 use crate::kinematics::{Frames, Robot};
 
 /// DH values `(d', a')` of a point on its link.

@@ -34,6 +34,10 @@ use crate::error::{FieldError, finite};
 use crate::kinematics::{Convention, Frames, JointType, Robot};
 use crate::skeleton::{Skeleton, SpinePart};
 
+pub mod clik;
+
+pub use clik::PointMotion;
+
 /// Tolerance (m) when checking that a DH value lies within its link's span
 /// and when mapping DH values to the skeleton.
 pub const SPAN_TOLERANCE: f64 = 1e-9;

@@ -1,0 +1,48 @@
+//! What a simulation returns: a [`Trace`] of [`Sample`]s with their control
+//! points, and the events.
+
+use serde::{Deserialize, Serialize};
+
+use crate::dependability::Event;
+
+/// One control point in a trace sample.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct TracePoint {
+    /// Position (m).
+    pub position: [f64; 3],
+    /// Link (1-based).
+    pub link: usize,
+    /// DH value `d'` (m).
+    pub d: f64,
+    /// DH value `a'` (m).
+    pub a: f64,
+    /// Id of the obstacle it answers.
+    pub obstacle: String,
+    /// Measured clearance (m).
+    pub distance: f64,
+}
+
+/// One sample of a trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Sample {
+    /// Time (s).
+    pub t: f64,
+    /// Joint values.
+    pub q: Vec<f64>,
+    /// Smallest clearance between the arm and any obstacle (or between
+    /// non-adjacent links) within reach (m; `null` when none is).
+    pub min_clearance: Option<f64>,
+    /// Active control points.
+    pub control_points: Vec<TracePoint>,
+}
+
+/// What [`crate::world::simulate`] returns.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Trace {
+    /// Samples, every `sampleEvery` steps, from `t = 0`.
+    pub samples: Vec<Sample>,
+    /// Events in time order.
+    pub events: Vec<Event>,
+}
