@@ -206,9 +206,20 @@ export interface Controller {
   selfCollision?: boolean;
 }
 
+/** Sensing model of one obstacle (docs/scenarios.md, Sensing); every field ≥ 0, absent = 0. */
 export interface SensingError {
+  /** Bound of the error redrawn every step (m). */
   bound?: number;
+  /** Bound of the fixed offset drawn once per run (m). */
+  biasBound?: number;
+  /** White Gaussian standard deviation per axis (m). */
   sigma?: number;
+  /** Stationary standard deviation of the Gauss–Markov noise per axis (m). */
+  correlatedSigma?: number;
+  /** Time constant of the correlated noise (s; default 0.1). */
+  correlationTime?: number;
+  /** Age of the sensed pose (s). */
+  latency?: number;
   seed?: number;
 }
 

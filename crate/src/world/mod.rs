@@ -8,7 +8,7 @@
 //!
 //! | # | stage | where | paper |
 //! |---|---|---|---|
-//! | 1 | **sense**: obstacles at `t`, then as sensed (sensing error) | `world/obstacles.rs`, [`crate::dependability::SensorModel`] | §IV |
+//! | 1 | **sense**: obstacles at `t`, then as sensed (bias, bounded error, white and correlated noise, latency) and each obstacle's margin | `world/obstacles.rs`, [`crate::dependability::SensorModel`] | §IV |
 //! | 2 | **scene query**: forward kinematics, skeleton, every segment against every obstacle within reach (and non-adjacent links against each other) | [`crate::kinematics`], [`crate::skeleton`], [`crate::distance::Scene::query`] | §II |
 //! | 3 | **select**: control points per pair / per obstacle / pinned / self | [`crate::avoidance::selection::select`] | §II, fig. 4 |
 //! | 4 | **transition**: each control point follows its selected point, travelling along the skeleton when it jumps | [`crate::transition::MovingPoint`] | §III-B |

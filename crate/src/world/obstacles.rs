@@ -5,7 +5,7 @@
 use glam::DVec3;
 
 use super::World;
-use crate::dependability::{SensorModel, distance_uncertainty};
+use crate::dependability::SensorModel;
 use crate::distance::{Obstacle, Primitive, Scene, distance};
 use crate::error::FieldError;
 use crate::scenario::{ObstacleSpec, Scenario, primitives, reference_point};
@@ -16,6 +16,8 @@ pub(super) struct ObstacleState {
     pub(super) reference: DVec3,
     pub(super) parts: Vec<Primitive>,
     pub(super) sensor: SensorModel,
+    /// The margin of the sensing error at this step (m): the sensor's own
+    /// ([`SensorModel::margin`]) plus `latency ×` the obstacle's speed.
     pub(super) margin: f64,
 }
 
@@ -27,14 +29,13 @@ impl ObstacleState {
     ) -> Result<Self, FieldError> {
         let parts = primitives(&spec.shape).map_err(|e| e.within("shape"))?;
         let s = scenario.sensing.for_obstacle(&spec.id);
-        let bound = s.bound.unwrap_or(0.0);
-        let sigma = s.sigma.unwrap_or(0.0);
         let seed = s.seed.unwrap_or(1 + index as u64);
+        let sensor = SensorModel::from_spec(&s, seed);
         Ok(Self {
             reference: reference_point(&spec.shape),
             parts,
-            sensor: SensorModel::new(bound, sigma, seed),
-            margin: distance_uncertainty(DVec3::Z, bound, sigma),
+            margin: sensor.margin(),
+            sensor,
             spec,
         })
     }
@@ -66,6 +67,20 @@ impl ObstacleState {
         }
     }
 
+    /// Updates [`ObstacleState::margin`] for time `t`: with latency, the
+    /// obstacle may have moved `latency × speed` since it was seen (first
+    /// order).
+    pub(super) fn update_margin(&mut self, t: f64, dt: f64) {
+        let latency = self.sensor.latency();
+        self.margin = self.sensor.margin();
+        if latency > 0.0 {
+            let speed = self.velocity(t, dt).length();
+            if speed.is_finite() {
+                self.margin += latency * speed;
+            }
+        }
+    }
+
     pub(super) fn moves(&self) -> bool {
         !self.sensor.is_exact()
             || self
@@ -77,15 +92,20 @@ impl ObstacleState {
 }
 
 impl World {
-    /// The *sense* stage: the scene of the obstacles at time `t`, displaced
-    /// by their sensing errors when `sensed`.
+    /// The *sense* stage: the scene of the obstacles at time `t`, as sensed
+    /// when `sensed` (seen `latency` late, displaced by their sensing
+    /// errors).
     pub(super) fn rebuild_scene(&mut self, t: f64, sensed: bool) {
         let mut obstacles = Vec::new();
         self.owners.clear();
         for (k, o) in self.obstacles.iter_mut().enumerate() {
             let mut off = o.offset(t);
             if sensed && !o.sensor.is_exact() {
-                off += o.sensor.sample();
+                let latency = o.sensor.latency();
+                if latency > 0.0 {
+                    off = o.offset((t - latency).max(0.0));
+                }
+                off += o.sensor.sample_at(t);
             }
             for p in &o.parts {
                 let id = self.owners.len() as u32;

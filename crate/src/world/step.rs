@@ -22,6 +22,11 @@ use super::state::ControlPointState;
 /// arm's retreat (see [`World::protect`]).
 const OUTRUN_MARGIN: f64 = 1.5;
 
+/// Time constant of the low-pass filter on the closing speed used for the
+/// time to collision (s): long against the jitter of the sensed normal,
+/// short against the arm's and the obstacles' changes of speed.
+pub const CLOSING_FILTER_TIME: f64 = 0.05;
+
 impl World {
     /// Advances the simulation by `dt` seconds (one control step). A
     /// non-finite or non-positive `dt` does nothing.
@@ -48,6 +53,10 @@ impl World {
         let moving = self.obstacles.iter().any(super::ObstacleState::moves);
         if moving || self.scene_dirty {
             self.rebuild_scene(self.t, true);
+        }
+        let t = self.t;
+        for o in &mut self.obstacles {
+            o.update_margin(t, dt);
         }
         // 2. scene query
         let pairs = self.scene_query(&cfg)?;
@@ -157,7 +166,7 @@ impl World {
                 let seg = &self.skeleton.segments[pt.segment];
                 (dh, Skeleton::radius_at(seg, pt.t))
             };
-            let (prev, remaining, owner) = (tr.prev_distance, tr.mover.remaining(), tr.owner);
+            let (prev, remaining, owner) = (tr.closing, tr.mover.remaining(), tr.owner);
             let target = tr.mover.transition().map(|x| x.target());
             let was_slow = tr.too_slow;
             let position = dh.position(&self.robot, &self.frames);
@@ -180,13 +189,16 @@ impl World {
                 (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
                 _ => self.name(&key),
             };
-            let ttc = prev.map_or(f64::INFINITY, |p| {
-                time_to_collision(effective, (p - effective) / dt)
-            });
+            let closing = self.closing_speed(&key, &dh, owner, normal, dt);
+            let closing = match (prev, closing) {
+                (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
+                (_, c) => c,
+            };
+            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(effective, c));
             min_ttc = min_ttc.min(ttc);
             let too_slow = remaining > 0.0 && ttc < remaining;
             if let Some(trm) = self.trackers.get_mut(&key) {
-                trm.prev_distance = Some(effective);
+                trm.closing = closing;
                 trm.too_slow = too_slow;
             }
             if too_slow && !was_slow {
@@ -219,6 +231,40 @@ impl World {
         self.points = states;
         self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
         Ok(active)
+    }
+
+    /// The speed at which control point `key` and what it answers close in
+    /// (m/s, positive when approaching), from the motion of the arm's
+    /// material point at `dh` (`nᵀ J_θ q̇`, not the point's travel along the
+    /// skeleton), minus that of the other point of a self-collision pair,
+    /// plus the obstacle's own approach speed (`−nᵀ v`, from its motion, not
+    /// from the sensed noise). `None` when the point answers nothing.
+    fn closing_speed(
+        &self,
+        key: &Key,
+        dh: &DhPoint,
+        owner: Option<usize>,
+        normal: DVec3,
+        dt: f64,
+    ) -> Option<f64> {
+        let qdot = &self.motion.qdot;
+        let velocity = |p: &DhPoint| -> DVec3 {
+            let j = p.jacobians(&self.robot, &self.frames);
+            j.j_theta.iter().zip(qdot).map(|(c, v)| *c * *v).sum()
+        };
+        let arm = normal.dot(velocity(dh));
+        match (key, owner) {
+            (Key::SelfPair(_, other), _) => {
+                let position = dh.position(&self.robot, &self.frames);
+                let u = fraction_on(&self.skeleton, *other, position);
+                let o =
+                    DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, *other, u)
+                        .ok()?;
+                Some(arm - normal.dot(velocity(&o)))
+            }
+            (_, Some(o)) => Some(arm - normal.dot(self.obstacles[o].velocity(self.t, dt))),
+            (_, None) => None,
+        }
     }
 
     /// Stage 6: the controller's requested joint velocities (zero while

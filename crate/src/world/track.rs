@@ -19,7 +19,9 @@ use crate::transition::{MovingPoint, PointEvent, SkeletonPoint, TransitionSettin
 pub(super) struct Tracker {
     pub(super) mover: MovingPoint,
     pub(super) owner: Option<usize>,
-    pub(super) prev_distance: Option<f64>,
+    /// Closing speed of the control point's material point and its
+    /// obstacle, low-pass filtered (m/s; see [`super::step`]).
+    pub(super) closing: Option<f64>,
     pub(super) too_slow: bool,
     counter: SwitchCounter,
     pub(super) chattering: bool,
@@ -31,7 +33,7 @@ impl Tracker {
         Self {
             mover: MovingPoint::new(at),
             owner,
-            prev_distance: None,
+            closing: None,
             too_slow: false,
             counter: SwitchCounter::default(),
             chattering: false,
