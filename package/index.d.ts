@@ -185,7 +185,17 @@ export interface Obstacle {
 export type Task =
   | { type: 'hold' }
   | { type: 'goal'; position: Vec3; orientation?: Quat; chain?: number }
-  | { type: 'trajectory'; points: Vec3[]; times: number[]; chain?: number };
+  | { type: 'trajectory'; points: Vec3[]; times: number[]; chain?: number }
+  /** Eq. 4's task: a point whose DH values slide from `from` to `to` holds `position`. */
+  | {
+      type: 'point';
+      link: number;
+      from: { d: number; a: number };
+      to: { d: number; a: number };
+      start?: number;
+      duration: number;
+      position?: Vec3;
+    };
 
 export interface Controller {
   mode?: 'velocity' | 'torque' | 'clik2';
@@ -204,6 +214,10 @@ export interface Controller {
   torque?: { stiffness?: number; damping?: number; jointDamping?: number; inertia?: number; forceGain?: number };
   clik2?: { kp?: number; kd?: number };
   selfCollision?: boolean;
+  /** Whether a point task subtracts its point's own sliding (eq. 4; default true). */
+  movingPointTerms?: boolean;
+  /** The protective layer beneath the repulsion. */
+  protective?: { enabled?: boolean; safetyDistance?: number; reactionTime?: number };
 }
 
 /** Sensing model of one obstacle (docs/scenarios.md, Sensing); every field ≥ 0, absent = 0. */
@@ -235,7 +249,8 @@ export interface Scenario {
   robot: RobotInput;
   q0?: JointVector;
   obstacles: Obstacle[];
-  task?: Task;
+  /** One task, or a list with at most one per chain. */
+  task?: Task | Task[];
   controller?: Controller;
   /** `default` and obstacle ids. */
   sensing?: { [obstacleIdOrDefault: string]: SensingError };
@@ -302,6 +317,7 @@ export interface WorldState {
   t: number;
   q: number[];
   qdot: number[];
+  qddot: number[];
   minClearance: number | null;
   skeleton: { nodes: Vec3[]; segments: SkeletonSegment[] };
   obstacles: { id: string; shape: Shape; parts: Primitive[] }[];
@@ -346,6 +362,8 @@ export class World {
   addObstacle(obstacle: Obstacle): void;
   removeObstacle(id: string): void;
   setObstacleShape(id: string, shape: Shape): void;
+  /** Clearance (m) between the arm now and `shape`, which is not added (negative: overlap). */
+  clearanceTo(shape: Shape): number;
   moveObstacle(id: string, position: Vec3): void;
   setController(partial: Controller): void;
   pick(origin: Vec3, direction: Vec3): PickResult | null;
