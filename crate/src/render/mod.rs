@@ -17,17 +17,14 @@
 //! solids, each sorted back to front (blended, depth tested, not written),
 //! so distance lines stay visible inside volumes and behind a glassy plane.
 
-mod camera;
 mod geometry;
-mod scene;
 
 use std::borrow::Cow;
 
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-pub use camera::{Camera, View};
-pub use scene::{Capsule, Grid, Line, Scene, Sphere, Triangle};
+use crate::view::{Camera, Grid, Scene, Triangle};
 
 use geometry::{LineInstance, LineVertex, MeshVertex, SolidInstance, SolidVertex};
 
@@ -619,14 +616,13 @@ impl Renderer {
         self.lines
             .upload(&self.device, &self.queue, bytemuck::cast_slice(&lines));
 
-        let finite =
-            |t: &&scene::Triangle| t.p.iter().flatten().chain(&t.color).all(|x| x.is_finite());
-        let (opaque, mut blend): (Vec<&scene::Triangle>, Vec<&scene::Triangle>) = scene
+        let finite = |t: &&Triangle| t.p.iter().flatten().chain(&t.color).all(|x| x.is_finite());
+        let (opaque, mut blend): (Vec<&Triangle>, Vec<&Triangle>) = scene
             .triangles
             .iter()
             .filter(finite)
             .partition(|t| t.color[3] >= 1.0);
-        let centroid = |t: &scene::Triangle| {
+        let centroid = |t: &Triangle| {
             (glam::Vec3::from(t.p[0]) + glam::Vec3::from(t.p[1]) + glam::Vec3::from(t.p[2])) / 3.0
         };
         blend.sort_by(|x, y| {

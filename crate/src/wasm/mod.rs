@@ -21,6 +21,4 @@ pub fn start() {
 }
 
 #[cfg(feature = "render")]
-mod draw;
-#[cfg(feature = "render")]
 mod viewer;

@@ -396,4 +396,45 @@ impl PrimitiveSpec {
             ))
         }
     }
+
+    /// The figure's reference point (m): the centre of spheres, boxes,
+    /// rectangles and disks, the middle of segments and capsules, the point
+    /// itself, the vertex mean of polygons and hulls, the point of a plane
+    /// closest to the origin. Motions move it, `moveObstacle` places it, the
+    /// viewer frames it.
+    ///
+    /// See also [`crate::scenario::reference_point`] for whole figures.
+    #[must_use]
+    pub fn reference_point(&self) -> glam::DVec3 {
+        use glam::DVec3;
+        let v = DVec3::from_array;
+        let mean = |pts: &[[f64; 3]]| {
+            if pts.is_empty() {
+                DVec3::ZERO
+            } else {
+                pts.iter().map(|p| v(*p)).sum::<DVec3>() / pts.len() as f64
+            }
+        };
+        match self {
+            Self::Point(s) => v(s.p),
+            Self::Segment(SegmentSpec { a, b })
+            | Self::Capsule(CapsuleSpec { a, b, .. })
+            | Self::TaperedCapsule(TaperedCapsuleSpec { a, b, .. }) => (v(*a) + v(*b)) * 0.5,
+            Self::Sphere(SphereSpec { center, .. })
+            | Self::Rectangle(RectangleSpec { center, .. })
+            | Self::Disk(DiskSpec { center, .. })
+            | Self::Box(BoxSpec { center, .. }) => v(*center),
+            Self::Plane(s) => {
+                let n = v(s.normal);
+                let l2 = n.length_squared();
+                if l2 > 0.0 {
+                    -s.offset * n / l2
+                } else {
+                    DVec3::ZERO
+                }
+            }
+            Self::Polygon(s) => mean(&s.vertices),
+            Self::ConvexHull(s) => mean(&s.points),
+        }
+    }
 }
