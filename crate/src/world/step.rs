@@ -9,10 +9,10 @@ use crate::avoidance::protect::{self, GuardPair};
 use crate::avoidance::selection::{self, Key, fraction_on};
 use crate::avoidance::{self, ActivePoint, ControllerConfig, Mode};
 use crate::control_point::DhPoint;
+use crate::control_point::PointMotion;
 use crate::dependability::{EventKind, time_to_collision};
 use crate::distance::{PairDistance, QueryOptions, Target};
 use crate::error::FieldError;
-use crate::kinematics::ik::PointMotion;
 use crate::skeleton::Skeleton;
 use crate::transition::dh_motion;
 
