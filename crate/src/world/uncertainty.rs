@@ -15,7 +15,7 @@ use super::World;
 use super::obstacles::SwitchOdds;
 use crate::avoidance::{ActivePoint, ControllerConfig, repulsion_speed};
 use crate::control_point::DhPoint;
-use crate::dependability::propagate::{Covariance, FD_STEP, gradient};
+use crate::dependability::propagate::{Covariance, FD_STEP};
 use crate::dependability::{PointSigma, SensingSpec, SensorModel, switch_probability};
 use crate::distance::{BroadPhase, Obstacle, PairDistance, QueryOptions, Scene};
 use crate::error::FieldError;
@@ -86,12 +86,22 @@ pub(super) fn segment_odds<'a>(
 }
 
 /// What the command's propagation needs of one active control point: the
-/// obstacle it answers and the controller's `(clearance, normal)` with that
+/// obstacle it answers and what the controller sees of the point with that
 /// obstacle moved by `±h` along x, y and z (in that order).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Probes {
     pub(super) owner: usize,
-    pub(super) values: [(f64, DVec3); 6],
+    pub(super) values: [Probe; 6],
+}
+
+/// A control point as the controller sees it, for one probe.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Probe {
+    /// Clearance minus the margin (m).
+    distance: f64,
+    normal: DVec3,
+    /// Where the point is (`None`: where it was, a pinned point).
+    dh: Option<DhPoint>,
 }
 
 fn axis_offsets() -> [DVec3; 6] {
@@ -165,10 +175,12 @@ impl World {
         })
     }
 
-    /// The standard deviations of a control point at `position` (radius
-    /// `radius`) answering obstacle `owner`, whose selected witness is
-    /// `witness` (`None` for a pinned point), with the probes the command's
-    /// propagation needs. `None` when the obstacle is sensed exactly.
+    /// The standard deviations of a control point answering obstacle
+    /// `owner`, with the probes the command's propagation needs; `None`
+    /// when the obstacle is sensed exactly. A point that follows its
+    /// selected witness (on segment `witness.segment`) moves with it, so
+    /// its clearance, normal and DH values are the witness pair's; a pinned
+    /// point (`witness` `None`) stays at `position` (radius `radius`).
     pub(super) fn point_sigma(
         &self,
         owner: usize,
@@ -183,64 +195,83 @@ impl World {
             return None;
         }
         let margin = o.margin;
-        let mut values = [(0.0, DVec3::Z); 6];
+        let mut values = [Probe {
+            distance: 0.0,
+            normal: DVec3::Z,
+            dh: None,
+        }; 6];
         for (v, off) in values.iter_mut().zip(axis_offsets()) {
-            let (d, n, _) = self.point_distance(owner, position - off).ok()?;
-            *v = (d - radius - margin, n);
+            *v = match witness {
+                Some(w) => self.witness_probe(owner, w.segment, off)?,
+                None => {
+                    let (d, normal, _) = self.point_distance(owner, position - off).ok()?;
+                    Probe {
+                        distance: d - radius,
+                        normal,
+                        dh: None,
+                    }
+                }
+            };
+            v.distance -= margin;
         }
-        let repulsion =
-            |(distance, normal): (f64, DVec3)| -normal * repulsion_speed(distance, cfg) * gain;
-        let cov = o.covariance;
-        let columns = |f: &dyn Fn(usize) -> Vec<f64>| -> [Vec<f64>; 3] {
+        let column = |f: &dyn Fn(&Probe) -> Vec<f64>| -> [Vec<f64>; 3] {
             let col = |k: usize| -> Vec<f64> {
-                f(2 * k)
+                f(&values[2 * k])
                     .iter()
-                    .zip(f(2 * k + 1))
+                    .zip(f(&values[2 * k + 1]))
                     .map(|(p, m)| (p - m) / (2.0 * FD_STEP))
                     .collect()
             };
             [col(0), col(1), col(2)]
         };
-        let distance = cov.std_of(&columns(&|i| vec![values[i].0]))[0];
-        let rep = cov.std_of(&columns(&|i| repulsion(values[i]).to_array().to_vec()));
-        let (d, a) = match witness {
-            Some(w) => self.witness_sigma(owner, w)?,
-            None => (0.0, 0.0),
-        };
+        let cov = o.covariance;
+        let distance = cov.std_of(&column(&|p| vec![p.distance]))[0];
+        let rep = cov.std_of(&column(&|p| {
+            (-p.normal * repulsion_speed(p.distance, cfg) * gain)
+                .to_array()
+                .to_vec()
+        }));
+        let dh = cov.std_of(&column(&|p| {
+            p.dh.map_or(vec![0.0, 0.0], |x| vec![x.d, x.a])
+        }));
         let sigma = PointSigma {
             distance,
-            d,
-            a,
+            d: dh[0],
+            a: dh[1],
             repulsion: [rep[0], rep[1], rep[2]],
         };
         Some((sigma, Probes { owner, values }))
     }
 
-    /// Standard deviations of the DH values `d'`, `a'` of the witness on
-    /// segment `w.segment` of obstacle `owner` (its closest part).
-    fn witness_sigma(&self, owner: usize, w: SkeletonPoint) -> Option<(f64, f64)> {
+    /// The closest pair of segment `segment` and obstacle `owner` (its
+    /// closest part) moved by `offset`, as the controller would see it.
+    fn witness_probe(&self, owner: usize, segment: usize, offset: DVec3) -> Option<Probe> {
         let start = self.owners.partition_point(|&x| x < owner);
         let end = self.owners.partition_point(|&x| x <= owner);
-        let dh_at = |offset: DVec3| -> Option<Vec<f64>> {
-            let mut best: Option<(f64, f64)> = None;
-            for index in start..end {
-                let p = self
-                    .scene
-                    .pair_moved(&self.skeleton, w.segment, index, offset)
-                    .ok()?;
-                if best.is_none_or(|b| p.distance < b.0) {
-                    best = Some((p.distance, p.fraction));
-                }
+        let mut best: Option<PairDistance> = None;
+        for index in start..end {
+            let p = self
+                .scene
+                .pair_moved(&self.skeleton, segment, index, offset)
+                .ok()?;
+            if best.is_none_or(|b| p.distance < b.distance) {
+                best = Some(p);
             }
-            let (_, t) = best?;
-            let dh =
-                DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, w.segment, t)
-                    .ok()?;
-            Some(vec![dh.d, dh.a])
-        };
-        let g = gradient(dh_at)?;
-        let s = self.obstacles[owner].covariance.std_of(&g);
-        Some((s[0], s[1]))
+        }
+        let p = best?;
+        let dh = DhPoint::from_skeleton(
+            &self.robot,
+            &self.frames,
+            &self.skeleton,
+            segment,
+            p.fraction,
+        )
+        .ok()?;
+        Some(Probe {
+            distance: p.distance,
+            normal: p.normal,
+            dh: Some(dh),
+        })
     }
 
     /// Standard deviation of each joint's command: the controller run again
@@ -269,7 +300,9 @@ impl World {
                     for ((m, a), p) in moved.iter_mut().zip(active).zip(probes) {
                         *m = *a;
                         if let Some(p) = p.filter(|p| p.owner == o) {
-                            (m.distance, m.normal) = p.values[i];
+                            let v = p.values[i];
+                            (m.distance, m.normal) = (v.distance, v.normal);
+                            m.dh = v.dh.unwrap_or(m.dh);
                         }
                     }
                     self.request_for(cfg, &moved, dt)
