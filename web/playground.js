@@ -11,7 +11,7 @@ import { TraceRecorder } from './export.js';
 import { wireInput } from './input.js';
 import { readoutMethods } from './readouts.js';
 import { sceneMethods } from './scene-edits.js';
-import { PRESETS, applyDh, buildPanel, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
+import { PRESETS, applyDh, buildPanel, fillPresets, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
 import { TimePlot } from './plots.js';
 import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
 import { STYLE } from './style.js';
@@ -174,6 +174,8 @@ export class Playground {
     }).observe(this.canvas);
     wireInput(this);
     if (this.panel) {
+      // The library names its presets; the page does not keep its own list.
+      if (typeof this.wasm.presetNames === 'function') fillPresets(this.panel, this.wasm.presetNames());
       for (const name of this.wasm.exampleScenarioNames()) this.panel.example.append(h('option', { value: name }, name));
       this.panel.example.prepend(h('option', { value: '', disabled: true }, 'examples…'));
       this.panel.example.addEventListener('change', () => {

@@ -265,3 +265,38 @@ fn set_joints_needs_a_robot_and_the_right_length() {
     let spines = count(solid_colors(stage.scene()), &[style::SPINE]);
     assert_eq!(spines, 3);
 }
+
+#[test]
+fn the_sliding_point_of_a_point_task_is_drawn_on_its_link() {
+    for name in EXAMPLE_NAMES {
+        let world = world_after(name, 300);
+        let state = world.state();
+        let tasks = world.scenario().task.as_slice();
+        let points = tasks.iter().filter(|t| t.point_at(0.0).is_some()).count();
+        assert_eq!(state.sliding_points.len(), points, "{name}");
+        let drawn = DrawState::from(state);
+        let mut scene = Scene::new();
+        build_scene(&mut scene, &drawn, &options(), None, [0.0; 3]);
+        let marks: Vec<_> = scene
+            .spheres
+            .iter()
+            .filter(|s| s.color == style::SLIDING_POINT)
+            .collect();
+        assert_eq!(marks.len(), points, "{name}");
+        // Each mark lies on the skeleton's spine.
+        for m in marks {
+            let c = glam::Vec3::from(m.center).as_dvec3();
+            let on_spine = drawn.skeleton.segments.iter().any(|s| {
+                let (a, b) = (
+                    DVec3::from(drawn.skeleton.nodes[s.from]),
+                    DVec3::from(drawn.skeleton.nodes[s.to]),
+                );
+                let t = ((c - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                (a + t * (b - a)).distance(c) < 1e-6
+            });
+            assert!(on_spine, "{name}: {c} is off the skeleton");
+        }
+    }
+    let sliding = world_after("sliding-point", 0).state();
+    assert_eq!(sliding.sliding_points.len(), 1);
+}

@@ -177,7 +177,7 @@ impl From<WorldState> for DrawState {
             obstacles,
             control_points,
             uncertainty,
-            sliding_points: Vec::new(),
+            sliding_points: state.sliding_points,
         }
     }
 }
