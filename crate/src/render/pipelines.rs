@@ -201,7 +201,7 @@ impl Builder<'_> {
         };
         self.build_with(
             "hairlines",
-            ("vs_mesh", "fs_hair"),
+            ("vs_hair", "fs_mesh"),
             &[Some(vertex)],
             (wgpu::PrimitiveTopology::LineList, None),
             false,
