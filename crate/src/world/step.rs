@@ -14,7 +14,7 @@ use crate::dependability::{EventKind, time_to_collision};
 use crate::distance::{PairDistance, QueryOptions, Target};
 use crate::error::FieldError;
 use crate::skeleton::Skeleton;
-use crate::transition::dh_motion;
+use crate::transition::{SkeletonPoint, dh_motion};
 
 use super::state::ControlPointState;
 use super::uncertainty::Probes;
@@ -196,17 +196,28 @@ impl World {
                 (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
                 _ => self.name(&key),
             };
-            let closing = self.closing_speed(&key, &dh, owner, normal, dt);
+            let at = selected_at.filter(|_| remaining > 0.0);
+            let (ttc_dh, ttc_normal, ttc_clearance) =
+                self.ttc_point(&key, at, owner, (dh, normal, effective))?;
+            let closing = self.closing_speed(&key, &ttc_dh, owner, ttc_normal, dt);
             let closing = match (prev, closing) {
                 (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
                 (_, c) => c,
             };
-            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(effective, c));
+            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(ttc_clearance, c));
             min_ttc = min_ttc.min(ttc);
-            // The transition must end, and the arm be able to brake, before
-            // contact: otherwise the protective layer slows the approach.
-            let needed = remaining + braking;
-            let too_slow = remaining > 0.0 && ttc < needed;
+            // The transition must end before contact and, when the obstacle
+            // itself closes in, the arm must also be able to brake before it
+            // arrives: otherwise the protective layer slows the approach.
+            // With the guards on, the arm's own approach to a still obstacle
+            // cannot end in contact (a velocity damper slows it as the
+            // clearance shrinks), so only an obstacle that closes in can
+            // make a transition too slow.
+            let coming = owner
+                .is_some_and(|o| -ttc_normal.dot(self.obstacles[o].velocity(self.t, dt)) > 0.0);
+            let guarded = cfg.protective.enabled;
+            let needed = remaining + if coming { braking } else { 0.0 };
+            let too_slow = remaining > 0.0 && ttc < needed && (coming || !guarded);
             let slowdown = if too_slow {
                 (ttc / needed).clamp(0.0, 1.0)
             } else {
@@ -224,7 +235,7 @@ impl World {
                     obstacle: name.clone(),
                     time_to_collision: ttc,
                     remaining,
-                    braking,
+                    braking: needed - remaining,
                     slowdown,
                 });
             }
@@ -255,6 +266,28 @@ impl World {
         self.points = states;
         self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
         Ok((active, probes))
+    }
+
+    /// Where the time to collision is measured: at the true closest point,
+    /// the selected witness `at` while the control point still travels to
+    /// it (the obstacle reaches the arm there, not where the control point
+    /// is), else at the control point itself, `here` = (DH point, normal,
+    /// clearance with the margin subtracted).
+    fn ttc_point(
+        &self,
+        key: &Key,
+        at: Option<SkeletonPoint>,
+        owner: Option<usize>,
+        here: (DhPoint, DVec3, f64),
+    ) -> Result<(DhPoint, DVec3, f64), FieldError> {
+        let Some(at) = at else { return Ok(here) };
+        let dh =
+            DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, at.segment, at.t)?;
+        let radius = Skeleton::radius_at(&self.skeleton.segments[at.segment], at.t);
+        let position = dh.position(&self.robot, &self.frames);
+        let (d, normal, _, owner) = self.locate(key, owner, position, radius)?;
+        let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
+        Ok((dh, normal, d - margin))
     }
 
     /// The obstacle pinned point `k` answers: the closest one, unless a
