@@ -156,17 +156,11 @@ impl World {
         self.slowdown.resize(self.obstacles.len(), 1.0);
         let keys: Vec<Key> = self.trackers.keys().cloned().collect();
         for key in keys {
-            let Some(tr) = self.trackers.get(&key) else {
+            let Some((dh, radius)) = self.tracked_point(&key, cfg)? else {
                 continue;
             };
-            let (dh, radius) = if let Key::Pinned(k) = key {
-                let Some(p) = cfg.pinned.get(k) else { continue };
-                (*p, self.robot.joints[p.link - 1].radius[0])
-            } else {
-                let pt = tr.mover.point();
-                let (dh, _) = dh_motion(&self.robot, &self.frames, &self.skeleton, pt, 0.0, 0.0)?;
-                let seg = &self.skeleton.segments[pt.segment];
-                (dh, Skeleton::radius_at(seg, pt.t))
+            let Some(tr) = self.trackers.get(&key) else {
+                continue;
             };
             let (prev, remaining, owner) = (tr.closing, tr.mover.remaining(), tr.owner);
             let target = tr.mover.transition().map(|x| x.target());
@@ -191,11 +185,7 @@ impl World {
             } else {
                 1.0
             };
-            let name = match (&key, owner) {
-                (Key::Pinned(k), None) => format!("pinned:{k}"),
-                (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
-                _ => self.name(&key),
-            };
+            let name = self.point_name(&key, owner);
             let at = selected_at.filter(|_| remaining > 0.0);
             let (ttc_dh, ttc_normal, ttc_clearance) =
                 self.ttc_point(&key, at, owner, (dh, normal, effective))?;
@@ -206,39 +196,17 @@ impl World {
             };
             let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(ttc_clearance, c));
             min_ttc = min_ttc.min(ttc);
-            // The transition must end before contact and, when the obstacle
-            // itself closes in, the arm must also be able to brake before it
-            // arrives: otherwise the protective layer slows the approach.
-            // With the guards on, the arm's own approach to a still obstacle
-            // cannot end in contact (a velocity damper slows it as the
-            // clearance shrinks), so only an obstacle that closes in can
-            // make a transition too slow.
-            let coming = owner
-                .is_some_and(|o| -ttc_normal.dot(self.obstacles[o].velocity(self.t, dt)) > 0.0);
-            let guarded = cfg.protective.enabled;
-            let needed = remaining + if coming { braking } else { 0.0 };
-            let too_slow = remaining > 0.0 && ttc < needed && (coming || !guarded);
-            let slowdown = if too_slow {
-                (ttc / needed).clamp(0.0, 1.0)
-            } else {
-                1.0
+            let approach = Approach {
+                owner,
+                name: &name,
+                ttc,
+                normal: ttc_normal,
+                remaining,
+                braking,
+                closing,
+                was_slow,
             };
-            if let Some(o) = owner.filter(|_| too_slow) {
-                self.slowdown[o] = self.slowdown[o].min(slowdown);
-            }
-            if let Some(trm) = self.trackers.get_mut(&key) {
-                trm.closing = closing;
-                trm.too_slow = too_slow;
-            }
-            if too_slow && !was_slow {
-                self.push(EventKind::TransitionTooSlow {
-                    obstacle: name.clone(),
-                    time_to_collision: ttc,
-                    remaining,
-                    braking: needed - remaining,
-                    slowdown,
-                });
-            }
+            self.monitor_transition(&key, &approach, cfg, dt);
             let target = target.and_then(|x| {
                 DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
                     .ok()
@@ -266,6 +234,78 @@ impl World {
         self.points = states;
         self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
         Ok((active, probes))
+    }
+
+    /// Where the tracked point `key` is (DH values) and the radius of the
+    /// arm's volume there; `None` for a pinned point the configuration no
+    /// longer has, or a key no longer tracked.
+    fn tracked_point(
+        &self,
+        key: &Key,
+        cfg: &ControllerConfig,
+    ) -> Result<Option<(DhPoint, f64)>, FieldError> {
+        let Some(tr) = self.trackers.get(key) else {
+            return Ok(None);
+        };
+        Ok(Some(if let Key::Pinned(k) = key {
+            let Some(p) = cfg.pinned.get(*k) else {
+                return Ok(None);
+            };
+            (*p, self.robot.joints[p.link - 1].radius[0])
+        } else {
+            let pt = tr.mover.point();
+            let (dh, _) = dh_motion(&self.robot, &self.frames, &self.skeleton, pt, 0.0, 0.0)?;
+            let seg = &self.skeleton.segments[pt.segment];
+            (dh, Skeleton::radius_at(seg, pt.t))
+        }))
+    }
+
+    /// The obstacle id a control point reports (`pinned:<k>` for a pinned
+    /// point with no obstacle in reach).
+    fn point_name(&self, key: &Key, owner: Option<usize>) -> String {
+        match (key, owner) {
+            (Key::Pinned(k), None) => format!("pinned:{k}"),
+            (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
+            _ => self.name(key),
+        }
+    }
+
+    /// The `transitionTooSlow` monitor of one point.
+    ///
+    /// The transition must end before contact and, when the obstacle itself
+    /// closes in, the arm must also be able to brake before it arrives:
+    /// otherwise the protective layer slows the approach. With the guards
+    /// on, the arm's own approach to a still obstacle cannot end in contact
+    /// (a velocity damper slows it as the clearance shrinks), so only an
+    /// obstacle that closes in can make a transition too slow.
+    fn monitor_transition(&mut self, key: &Key, a: &Approach<'_>, cfg: &ControllerConfig, dt: f64) {
+        let (owner, ttc, remaining) = (a.owner, a.ttc, a.remaining);
+        let coming =
+            owner.is_some_and(|o| -a.normal.dot(self.obstacles[o].velocity(self.t, dt)) > 0.0);
+        let guarded = cfg.protective.enabled;
+        let needed = remaining + if coming { a.braking } else { 0.0 };
+        let too_slow = remaining > 0.0 && ttc < needed && (coming || !guarded);
+        let slowdown = if too_slow {
+            (ttc / needed).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        if let Some(o) = owner.filter(|_| too_slow) {
+            self.slowdown[o] = self.slowdown[o].min(slowdown);
+        }
+        if let Some(trm) = self.trackers.get_mut(key) {
+            trm.closing = a.closing;
+            trm.too_slow = too_slow;
+        }
+        if too_slow && !a.was_slow {
+            self.push(EventKind::TransitionTooSlow {
+                obstacle: a.name.to_owned(),
+                time_to_collision: ttc,
+                remaining,
+                braking: needed - remaining,
+                slowdown,
+            });
+        }
     }
 
     /// Where the time to collision is measured: at the true closest point,
@@ -552,4 +592,24 @@ impl World {
         self.robot.clamp_to_limits(&mut self.q);
         self.t += dt;
     }
+}
+
+/// What the `transitionTooSlow` monitor knows of one control point.
+struct Approach<'a> {
+    /// The obstacle it answers, if any.
+    owner: Option<usize>,
+    /// The id it reports.
+    name: &'a str,
+    /// Time to collision (s).
+    ttc: f64,
+    /// Unit normal from the point towards the obstacle.
+    normal: DVec3,
+    /// Time left of its transition (s).
+    remaining: f64,
+    /// Time the arm needs to stop (s).
+    braking: f64,
+    /// Filtered closing speed (m/s).
+    closing: Option<f64>,
+    /// Whether it was already too slow at the last step.
+    was_slow: bool,
 }
