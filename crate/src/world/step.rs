@@ -17,7 +17,7 @@ use crate::skeleton::Skeleton;
 use crate::transition::{SkeletonPoint, dh_motion};
 
 use super::state::ControlPointState;
-use super::uncertainty::Probes;
+use super::uncertainty::SigmaInput;
 
 /// Factor on the braking time when deciding that an obstacle outruns the
 /// arm's retreat (see [`World::protect`]).
@@ -67,10 +67,14 @@ impl World {
         // 4.–5. transition and monitor
         self.monitor_switch_risk(&pairs, &selected, &cfg);
         self.track(&selected, &pairs, dt, &cfg)?;
-        let (active, probes) = self.active_points(&cfg, dt)?;
-        // 6. control, and the propagation of the sensing errors
+        let active = self.active_points(&cfg, dt)?;
+        // 6. control (what the propagation of the sensing errors needs is
+        // kept, and computed when the state is read)
+        self.step_qdot.clone_from(&self.motion.qdot);
+        self.step_q.clone_from(&self.q);
+        self.step_dt = dt;
         self.control(&cfg, &active, dt)?;
-        self.command_sigma = self.command_sigma(&cfg, &active, &probes, dt)?;
+        self.active = active;
         // 7. protect
         let all_hold = self.protect(&cfg, &pairs, dt)?;
         self.maybe_resume(all_hold);
@@ -146,9 +150,9 @@ impl World {
         &mut self,
         cfg: &ControllerConfig,
         dt: f64,
-    ) -> Result<(Vec<ActivePoint>, Vec<Option<Probes>>), FieldError> {
+    ) -> Result<Vec<ActivePoint>, FieldError> {
         let mut active = Vec::new();
-        let mut probes = Vec::new();
+        let mut sigma_inputs = Vec::new();
         let mut states = Vec::new();
         let mut min_ttc = f64::INFINITY;
         let braking = braking_time(&self.robot, &self.motion, dt);
@@ -211,11 +215,19 @@ impl World {
                 DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
                     .ok()
             });
-            let sigma =
-                owner.and_then(|o| self.point_sigma(o, position, radius, selected_at, cfg, gain));
+            if let Some(owner) = owner.filter(|&o| !self.obstacles[o].covariance.is_zero()) {
+                sigma_inputs.push(SigmaInput {
+                    point: states.len(),
+                    active: dist.is_finite().then_some(active.len()),
+                    owner,
+                    position,
+                    radius,
+                    witness: selected_at,
+                    gain,
+                });
+            }
             if dist.is_finite() {
                 active.push(ap);
-                probes.push(sigma.map(|s| s.1));
             }
             states.push(ControlPointState {
                 position: position.to_array(),
@@ -228,12 +240,13 @@ impl World {
                 repulsion: (ap.repulsion(cfg) * gain).to_array(),
                 transitioning: target.is_some(),
                 target,
-                sigma: sigma.map(|s| s.0),
+                sigma: None,
             });
         }
         self.points = states;
+        self.sigma_inputs = sigma_inputs;
         self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
-        Ok((active, probes))
+        Ok(active)
     }
 
     /// Where the tracked point `key` is (DH values) and the radius of the
@@ -402,7 +415,7 @@ impl World {
             .task
             .references(&self.robot, self.t, &self.anchors, &mut refs);
         self.references = refs;
-        self.request = self.request_for(cfg, active, dt)?;
+        self.request = self.request_for(cfg, active, &self.q, &self.motion.qdot, dt)?;
         if self.stopped {
             self.request.iter_mut().for_each(|v| *v = 0.0);
         }
@@ -415,18 +428,18 @@ impl World {
         &self,
         cfg: &ControllerConfig,
         active: &[ActivePoint],
+        q: &[f64],
+        qdot: &[f64],
         dt: f64,
     ) -> Result<Vec<f64>, FieldError> {
-        let (robot, frames, qdot) = (&self.robot, &self.frames, &self.motion.qdot);
+        let (robot, frames) = (&self.robot, &self.frames);
         let refs = &self.references;
         Ok(match cfg.mode {
             Mode::Velocity => avoidance::velocity_control(robot, frames, active, refs, cfg)?,
             Mode::Torque => {
                 avoidance::torque_control(robot, frames, qdot, active, refs, cfg, dt)?.0
             }
-            Mode::Clik2 => {
-                avoidance::clik2_control(robot, frames, &self.q, qdot, active, refs, cfg, dt)?
-            }
+            Mode::Clik2 => avoidance::clik2_control(robot, frames, q, qdot, active, refs, cfg, dt)?,
         })
     }
 
@@ -565,7 +578,6 @@ impl World {
     /// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`.
     fn limit_and_integrate(&mut self, dt: f64) {
         self.step_t = self.t;
-        self.step_q.clone_from(&self.q);
         // A chattering stop decelerates gently (`maxDeceleration`); a stop
         // before an unavoidable contact and the emergency brake use every
         // joint's full deceleration.
