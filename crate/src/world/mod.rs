@@ -49,7 +49,8 @@ mod track;
 
 use obstacles::ObstacleState;
 pub use state::{
-    ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonState, Uncertainty, WorldState,
+    ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick, SkeletonState,
+    Uncertainty, WorldState,
 };
 use track::Tracker;
 
