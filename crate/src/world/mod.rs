@@ -12,7 +12,7 @@
 //! | 2 | **scene query**: forward kinematics, skeleton, every segment against every obstacle within reach (and non-adjacent links against each other) | [`crate::kinematics`], [`crate::skeleton`], [`crate::distance::Scene::query`] | §II |
 //! | 3 | **select**: control points per pair / per obstacle / pinned / self | [`crate::avoidance::selection::select`] | §II, fig. 4 |
 //! | 4 | **transition**: each control point follows its selected point, travelling along the skeleton when it jumps | [`crate::transition::MovingPoint`] | §III-B |
-//! | 5 | **monitor**: switch risk, chattering (stop or lock), time to collision | [`crate::dependability`] | §IV |
+//! | 5 | **monitor**: switch risk, chattering (stop or lock), time to collision, transitions too slow for the approach | [`crate::dependability`], `world/monitor.rs` | §IV |
 //! | 6 | **control**: repulsion and tasks → requested joint velocities | [`crate::avoidance::control`] | §III-A, eq. 4 |
 //! | 7 | **protect**: every pair's approach bounded so the arm can stop before contact | [`crate::avoidance::protect`] | — (ISO/TS 15066) |
 //! | 8 | **limit**: jerk-limited tracking within the joints' limits | [`crate::avoidance::limits`] | — |
@@ -42,6 +42,7 @@ use crate::scenario::{ObstacleSpec, Scenario, ScenarioError, ShapeSpec, TaskSpec
 use crate::skeleton::Skeleton;
 
 mod edit;
+mod monitor;
 mod obstacles;
 mod state;
 mod step;
