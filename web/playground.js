@@ -413,11 +413,16 @@ export class Playground {
   stepsDue(wall) {
     const dt = this.scenario.dt;
     if (!this.running || this.offscreen) return this.pendingSteps;
+    // A frame longer than 100 ms (a busy machine, a background tab) does
+    // not make the simulation race to catch up: the excess is dropped, and
+    // counted (`droppedS`), so that real time is kept or the loss is known.
+    this.droppedS = (this.droppedS ?? 0) + Math.max(0, wall - 0.1) * this.speed;
     this.acc += Math.min(wall, 0.1) * this.speed;
     let steps = Math.floor(this.acc / dt + 1e-9);
     const cap = Math.ceil(0.1 / dt);
     if (steps > cap) {
       steps = cap;
+      this.droppedS += this.acc - cap * dt;
       this.acc = 0;
     } else {
       this.acc -= steps * dt;
@@ -473,6 +478,7 @@ export class Playground {
       meanSteps: (this.stats.meanSteps ?? steps) * (1 - k) + steps * k,
       stepMs: (this.stats.stepMs ?? 0) * (1 - k) + stepMs * k,
       drawMs: (this.stats.drawMs ?? 0) * (1 - k) + drawMs * k,
+      droppedS: this.droppedS ?? 0,
       backend: this.backend,
     };
   }

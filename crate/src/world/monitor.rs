@@ -6,10 +6,11 @@
 use glam::DVec3;
 
 use super::World;
+use super::step::CLOSING_FILTER_TIME;
 use crate::avoidance::ControllerConfig;
 use crate::avoidance::selection::{Key, fraction_on};
 use crate::control_point::DhPoint;
-use crate::dependability::EventKind;
+use crate::dependability::{EventKind, time_to_collision};
 use crate::error::FieldError;
 use crate::skeleton::Skeleton;
 use crate::transition::SkeletonPoint;
@@ -57,6 +58,28 @@ impl World {
                 slowdown,
             });
         }
+    }
+
+    /// The time to collision of tracked point `key` (see [`World::ttc_point`]
+    /// for where it is measured), with its closing speed low-pass filtered
+    /// from the previous step's `prev`, and the normal it was measured along.
+    pub(super) fn time_to_collision_at(
+        &self,
+        key: &Key,
+        at: Option<SkeletonPoint>,
+        owner: Option<usize>,
+        here: (DhPoint, DVec3, f64),
+        prev: Option<f64>,
+        dt: f64,
+    ) -> Result<(f64, Option<f64>, DVec3), FieldError> {
+        let (dh, normal, clearance) = self.ttc_point(key, at, owner, here)?;
+        let closing = self.closing_speed(key, &dh, owner, normal, dt);
+        let closing = match (prev, closing) {
+            (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
+            (_, c) => c,
+        };
+        let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(clearance, c));
+        Ok((ttc, closing, normal))
     }
 
     /// Where the time to collision is measured: at the true closest point,

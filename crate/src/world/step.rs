@@ -10,7 +10,7 @@ use crate::avoidance::selection::{self, Key, fraction_on};
 use crate::avoidance::{self, ActivePoint, ControllerConfig, Mode};
 use crate::control_point::DhPoint;
 use crate::control_point::PointMotion;
-use crate::dependability::{EventKind, time_to_collision};
+use crate::dependability::EventKind;
 use crate::distance::{PairDistance, QueryOptions, Target};
 use crate::error::FieldError;
 use crate::skeleton::Skeleton;
@@ -192,14 +192,8 @@ impl World {
             };
             let name = self.point_name(&key, owner);
             let at = selected_at.filter(|_| remaining > 0.0);
-            let (ttc_dh, ttc_normal, ttc_clearance) =
-                self.ttc_point(&key, at, owner, (dh, normal, effective))?;
-            let closing = self.closing_speed(&key, &ttc_dh, owner, ttc_normal, dt);
-            let closing = match (prev, closing) {
-                (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
-                (_, c) => c,
-            };
-            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(ttc_clearance, c));
+            let (ttc, closing, ttc_normal) =
+                self.time_to_collision_at(&key, at, owner, (dh, normal, effective), prev, dt)?;
             min_ttc = min_ttc.min(ttc);
             let approach = Approach {
                 owner,
