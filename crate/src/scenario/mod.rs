@@ -25,6 +25,7 @@ use crate::kinematics::{Robot, RobotSpec, presets};
 mod examples;
 mod obstacle;
 mod sensing;
+mod tagged;
 mod task;
 mod trace;
 
