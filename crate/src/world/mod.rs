@@ -46,12 +46,14 @@ mod obstacles;
 mod state;
 mod step;
 mod track;
+mod uncertainty;
 
 use obstacles::ObstacleState;
 pub use state::{
     ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonState, Uncertainty, WorldState,
 };
 use track::Tracker;
+pub use uncertainty::Risk;
 
 /// Events a live [`World`] keeps (the oldest half is dropped beyond this;
 /// [`simulate`] keeps every event).
@@ -102,6 +104,12 @@ pub struct World {
     points: Vec<ControlPointState>,
     min_clearance: Option<f64>,
     time_to_collision: Option<f64>,
+    /// Per obstacle, the factor on the arm's allowed approach speed when a
+    /// transition plus braking would not end before contact (1: none).
+    slowdown: Vec<f64>,
+    /// Standard deviation of each joint's command from the sensing errors
+    /// (`None` when every obstacle is sensed exactly).
+    command_sigma: Option<Vec<f64>>,
     step_t: f64,
     step_q: Vec<f64>,
 }
@@ -183,6 +191,8 @@ impl World {
             points: Vec::new(),
             min_clearance: None,
             time_to_collision: None,
+            slowdown: Vec::new(),
+            command_sigma: None,
             step_t: 0.0,
             step_q: Vec::new(),
         };

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use super::World;
 use crate::control_point::DhPoint;
-use crate::dependability::Event;
+use crate::dependability::{Event, PointSigma};
 use crate::distance::PrimitiveSpec;
 use crate::scenario::{Sample, ShapeSpec, TracePoint, translated};
 
@@ -36,6 +36,11 @@ pub struct ControlPointState {
     /// Where it goes while transitioning.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub target: Option<DhPoint>,
+    /// First-order standard deviations from the sensing error of the
+    /// obstacle it answers (absent when that obstacle is sensed exactly;
+    /// [`crate::dependability::propagate`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma: Option<PointSigma>,
 }
 
 /// A skeleton segment in [`WorldState`].
@@ -71,13 +76,26 @@ pub struct ObstacleStateOut {
     pub parts: Vec<PrimitiveSpec>,
 }
 
-/// The inflated margin of one obstacle.
+/// The sensing uncertainty of one obstacle and what it does to the
+/// choice of the closest segment.
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
 pub struct Uncertainty {
     /// Obstacle id.
     pub obstacle: String,
     /// Distance uncertainty added to the safety margin (m).
     pub radius: f64,
+    /// Standard deviation of the sensed position along any axis (m).
+    pub sigma: f64,
+    /// Probability that the closest segment, as sensed, differs from the
+    /// ideal one (0 when the obstacle is out of reach).
+    pub switch_probability: f64,
+    /// The closest segment (when within reach).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub segment: Option<usize>,
+    /// The likeliest other segment (when there is one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alternative: Option<usize>,
 }
 
 /// Everything a viewer needs after a step (serde, camelCase).
@@ -101,8 +119,16 @@ pub struct WorldState {
     pub obstacles: Vec<ObstacleStateOut>,
     /// Active control points (of the last step).
     pub control_points: Vec<ControlPointState>,
-    /// Inflated margins of obstacles sensed with error.
+    /// Obstacles sensed with error: margin, spread, switch probability.
     pub uncertainty: Vec<Uncertainty>,
+    /// The controller's joint command of the last step, before the
+    /// protective layer and the joint limits (rad/s or m/s; N·m or N in
+    /// torque mode).
+    pub command: Vec<f64>,
+    /// Standard deviation of each joint's command from the sensing errors
+    /// (absent when every obstacle is sensed exactly).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub command_sigma: Option<Vec<f64>>,
     /// Events (all so far, or since a cursor).
     pub events: Vec<Event>,
     /// Smallest time to collision of the last step (s), if any point closes in.
@@ -180,8 +206,14 @@ impl World {
                 .map(|o| Uncertainty {
                     obstacle: o.spec.id.clone(),
                     radius: o.margin,
+                    sigma: o.covariance.variance_along(glam::DVec3::X).sqrt(),
+                    switch_probability: o.switch.probability,
+                    segment: o.switch.segment,
+                    alternative: o.switch.alternative,
                 })
                 .collect(),
+            command: self.request.clone(),
+            command_sigma: self.command_sigma.clone(),
             events: self
                 .events
                 .get(cursor.saturating_sub(self.events_dropped)..)
@@ -210,8 +242,10 @@ impl World {
                     a: c.a,
                     obstacle: c.obstacle.clone(),
                     distance: c.distance,
+                    sigma: c.sigma,
                 })
                 .collect(),
+            command_sigma: self.command_sigma.clone(),
         }
     }
 }

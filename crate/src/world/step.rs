@@ -17,6 +17,7 @@ use crate::skeleton::Skeleton;
 use crate::transition::dh_motion;
 
 use super::state::ControlPointState;
+use super::uncertainty::Probes;
 
 /// Factor on the braking time when deciding that an obstacle outruns the
 /// arm's retreat (see [`World::protect`]).
@@ -66,9 +67,10 @@ impl World {
         // 4.–5. transition and monitor
         self.monitor_switch_risk(&pairs, &selected, &cfg);
         self.track(&selected, &pairs, dt, &cfg)?;
-        let active = self.active_points(&cfg, dt)?;
-        // 6. control
+        let (active, probes) = self.active_points(&cfg, dt)?;
+        // 6. control, and the propagation of the sensing errors
         self.control(&cfg, &active, dt)?;
+        self.command_sigma = self.command_sigma(&cfg, &active, &probes, dt)?;
         // 7. protect
         let all_hold = self.protect(&cfg, &pairs, dt)?;
         self.maybe_resume(all_hold);
@@ -129,10 +131,6 @@ impl World {
             let n = if len > 0.0 { v / len } else { DVec3::Z };
             return Ok((len - radius - r2, n, c - n * r2, None));
         }
-        let owner = match key {
-            Key::Pinned(_) => self.closest_obstacle(position),
-            _ => owner,
-        };
         Ok(match owner {
             Some(o) => {
                 let (d, n, w) = self.point_distance(o, position)?;
@@ -148,10 +146,14 @@ impl World {
         &mut self,
         cfg: &ControllerConfig,
         dt: f64,
-    ) -> Result<Vec<ActivePoint>, FieldError> {
+    ) -> Result<(Vec<ActivePoint>, Vec<Option<Probes>>), FieldError> {
         let mut active = Vec::new();
+        let mut probes = Vec::new();
         let mut states = Vec::new();
         let mut min_ttc = f64::INFINITY;
+        let braking = braking_time(&self.robot, &self.motion, dt);
+        self.slowdown.clear();
+        self.slowdown.resize(self.obstacles.len(), 1.0);
         let keys: Vec<Key> = self.trackers.keys().cloned().collect();
         for key in keys {
             let Some(tr) = self.trackers.get(&key) else {
@@ -168,8 +170,13 @@ impl World {
             };
             let (prev, remaining, owner) = (tr.closing, tr.mover.remaining(), tr.owner);
             let target = tr.mover.transition().map(|x| x.target());
+            let selected_at = (!matches!(key, Key::Pinned(_))).then(|| tr.mover.selected());
             let was_slow = tr.too_slow;
             let position = dh.position(&self.robot, &self.frames);
+            let owner = match key {
+                Key::Pinned(k) => self.pinned_owner(&key, k, position),
+                _ => owner,
+            };
             let (dist, normal, witness, owner) = self.locate(&key, owner, position, radius)?;
             let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
             let effective = dist - margin;
@@ -196,7 +203,18 @@ impl World {
             };
             let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(effective, c));
             min_ttc = min_ttc.min(ttc);
-            let too_slow = remaining > 0.0 && ttc < remaining;
+            // The transition must end, and the arm be able to brake, before
+            // contact: otherwise the protective layer slows the approach.
+            let needed = remaining + braking;
+            let too_slow = remaining > 0.0 && ttc < needed;
+            let slowdown = if too_slow {
+                (ttc / needed).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            if let Some(o) = owner.filter(|_| too_slow) {
+                self.slowdown[o] = self.slowdown[o].min(slowdown);
+            }
             if let Some(trm) = self.trackers.get_mut(&key) {
                 trm.closing = closing;
                 trm.too_slow = too_slow;
@@ -206,14 +224,19 @@ impl World {
                     obstacle: name.clone(),
                     time_to_collision: ttc,
                     remaining,
+                    braking,
+                    slowdown,
                 });
             }
             let target = target.and_then(|x| {
                 DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
                     .ok()
             });
+            let sigma =
+                owner.and_then(|o| self.point_sigma(o, position, radius, selected_at, cfg, gain));
             if dist.is_finite() {
                 active.push(ap);
+                probes.push(sigma.map(|s| s.1));
             }
             states.push(ControlPointState {
                 position: position.to_array(),
@@ -226,11 +249,37 @@ impl World {
                 repulsion: (ap.repulsion(cfg) * gain).to_array(),
                 transitioning: target.is_some(),
                 target,
+                sigma: sigma.map(|s| s.0),
             });
         }
         self.points = states;
         self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
-        Ok(active)
+        Ok((active, probes))
+    }
+
+    /// The obstacle pinned point `k` answers: the closest one, unless a
+    /// `lock` holds another; a change is a switch for the chattering
+    /// monitor.
+    fn pinned_owner(&mut self, key: &Key, k: usize, position: DVec3) -> Option<usize> {
+        let closest = self.closest_obstacle(position);
+        let mut tracker = self.trackers.remove(key)?;
+        let owner = match tracker.lock {
+            Some((held, until)) if self.t < until && held < self.obstacles.len() => Some(held),
+            Some(_) => {
+                tracker.lock = None;
+                let obstacle = format!("pinned:{k}");
+                self.push(EventKind::Unlock { obstacle });
+                closest
+            }
+            None => closest,
+        };
+        let switched = tracker.owner.is_some() && owner.is_some() && tracker.owner != owner;
+        tracker.owner = owner;
+        if let Some(o) = owner {
+            self.monitor_chattering(&mut tracker, &format!("pinned:{k}"), switched, o);
+        }
+        self.trackers.insert(key.clone(), tracker);
+        owner
     }
 
     /// The speed at which control point `key` and what it answers close in
@@ -279,22 +328,33 @@ impl World {
         self.scenario
             .task
             .references(&self.robot, self.t, &self.anchors, &mut refs);
-        let (robot, frames, qdot) = (&self.robot, &self.frames, &self.motion.qdot);
-        let request = match cfg.mode {
-            Mode::Velocity => avoidance::velocity_control(robot, frames, active, &refs, cfg)?,
-            Mode::Torque => {
-                avoidance::torque_control(robot, frames, qdot, active, &refs, cfg, dt)?.0
-            }
-            Mode::Clik2 => {
-                avoidance::clik2_control(robot, frames, &self.q, qdot, active, &refs, cfg, dt)?
-            }
-        };
         self.references = refs;
-        self.request = request;
+        self.request = self.request_for(cfg, active, dt)?;
         if self.stopped {
             self.request.iter_mut().for_each(|v| *v = 0.0);
         }
         Ok(())
+    }
+
+    /// The controller's joint command for the active points `active` and
+    /// this step's task references.
+    pub(super) fn request_for(
+        &self,
+        cfg: &ControllerConfig,
+        active: &[ActivePoint],
+        dt: f64,
+    ) -> Result<Vec<f64>, FieldError> {
+        let (robot, frames, qdot) = (&self.robot, &self.frames, &self.motion.qdot);
+        let refs = &self.references;
+        Ok(match cfg.mode {
+            Mode::Velocity => avoidance::velocity_control(robot, frames, active, refs, cfg)?,
+            Mode::Torque => {
+                avoidance::torque_control(robot, frames, qdot, active, refs, cfg, dt)?.0
+            }
+            Mode::Clik2 => {
+                avoidance::clik2_control(robot, frames, &self.q, qdot, active, refs, cfg, dt)?
+            }
+        })
     }
 
     /// The pairs the protective layer guards: every pair within the
@@ -373,6 +433,15 @@ impl World {
             .guard_pairs
             .iter()
             .all(|g| p.bound(g.distance, g.obstacle_speed, braking) >= 0.0);
+        // Time to collision shorter than a transition plus braking: the
+        // approach to that obstacle is slowed (retreat is left free).
+        for g in &mut guards {
+            if let Some(o) = g.obstacle
+                && g.bound > 0.0
+            {
+                g.bound *= self.slowdown.get(o).copied().unwrap_or(1.0);
+            }
+        }
         let (lo, hi) = velocity_box(&self.robot, &self.q);
         let weights = cfg.joint_weights.as_deref().unwrap_or(&[]);
         let mut out = Vec::with_capacity(self.request.len());
