@@ -93,6 +93,7 @@ const METHODS = [
   ['setObstacleShape', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, r.pick(PRIMITIVES))], true],
   ['moveObstacle', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, [0.2, 0.1, 0.3])], true],
   ['setController', (r) => [arg(r, CONTROLLER)], true],
+  ['riskAt', (r) => [arg(r, r.pick(PRIMITIVES)), r.chance(0.5) ? undefined : arg(r, { bound: 0.01, sigma: 0.005 })]],
   ['pick', (r) => [arg(r, [0, 0, 2]), arg(r, [0, 0, -1])]],
   ['reset', () => []],
 ];

@@ -99,7 +99,7 @@ test('bad input throws an Error naming the field and the reason', () => {
     [{ type: 'point', p: [0, 0, 0], radius: 1 }, p, /^a: `radius` is not a field of a point/],
     [{ type: 'point', p: [0, 0, 0], colour: 1 }, p, /^a\.colour: unknown field "colour"/],
     [{ type: 'taperedCapsule', a: [0, 0, 0], b: [1, 0, 0], radius: [0.1, NaN] }, p, /^a\.radius\[1\]: not a finite number$/],
-    [{ type: 'point', p: [0, 'x', 0] }, p, /^a\.p\[1\]: expected a number, got string "x"$/],
+    [{ type: 'point', p: [0, 'x', 0] }, p, /^a\.p\[1\]: expected a number, got the string "x"$/],
     [{ type: 'polygon', vertices: 'x' }, p, /^a\.vertices: /],
     [p, { type: 'plane', normal: [0, 0, 0], offset: 1 }, /^b\.normal: must not be zero$/],
     [p, { type: 'disk', center: [0, 0, 0], normal: [0, 0, 0], radius: 1 }, /^b\.normal: must not be zero$/],

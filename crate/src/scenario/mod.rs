@@ -102,6 +102,11 @@ fn nested<T: serde::de::DeserializeOwned, E: serde::de::Error>(
 impl<'de> Deserialize<'de> for RobotRef {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let v = serde_json::Value::deserialize(d)?;
+        if !v.is_object() {
+            return Err(serde::de::Error::custom(
+                "expected a robot spec { convention, joints, … } or { preset: name }",
+            ));
+        }
         if v.get("preset").is_some() {
             let p: PresetRef = nested(v)?;
             Ok(Self::Preset(p.preset))

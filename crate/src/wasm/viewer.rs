@@ -135,7 +135,8 @@ impl Viewer {
     /// Rejects with an `Error` when `canvas` is not a canvas, an option is
     /// unknown, or the browser offers neither WebGPU nor WebGL2 (the message
     /// says so in words a person can act on).
-    pub async fn create(canvas: JsValue, options: JsValue) -> Result<Viewer, JsError> {
+    #[wasm_bindgen(unchecked_return_type = "Viewer")]
+    pub async fn create(canvas: JsValue, options: JsValue) -> Result<JsValue, JsError> {
         let canvas: web_sys::HtmlCanvasElement = canvas
             .dyn_into()
             .map_err(|_| JsError::new("canvas: not an HTMLCanvasElement"))?;
@@ -160,7 +161,7 @@ impl Viewer {
             .await
             .map_err(|e| JsError::new(&e.to_string()))?;
         let camera = Camera::framing(Vec3::ZERO, 1.0, fixed_view.unwrap_or(View::Orbit));
-        Ok(Viewer {
+        Ok(super::boundary::guarded_viewer(Viewer {
             renderer,
             camera,
             scene: Scene::new(),
@@ -176,7 +177,7 @@ impl Viewer {
             center: glam::DVec3::ZERO,
             reach: 1.0,
             dirty: true,
-        })
+        }))
     }
 
     /// The backend drawing the canvas: `"webgpu"` or `"webgl2"`.
