@@ -120,3 +120,73 @@ fn a_steady_scene_never_chatters_in_any_mode() {
             .unwrap();
     assert!(count(&kinds(&s), |e| matches!(e, EventKind::Chattering { .. })) == 0);
 }
+
+/// The planar example's ball, after its jump, closing in on link 3 at
+/// 0.5 m/s while the control point still travels there.
+fn closing_ball() -> Scenario {
+    Scenario::from_json(
+        r#"{ "robot": { "preset": "planar3" }, "q0": [0.0, 1.5, 1.5],
+             "obstacles": [{ "id": "ball", "shape": { "type": "sphere", "center": [0.2, -0.25, 0.0], "radius": 0.05 },
+                "motion": { "type": "waypoints", "points": [[0, 0, 0], [0, 0, 0], [0.1, 0.82, 0], [0.1, 0.52, 0]],
+                            "times": [0, 0.3, 0.3, 0.9] } }],
+             "task": { "type": "hold" }, "controller": { "selection": "perObstacle", "transitionTime": 0.1 },
+             "dt": 0.001, "duration": 1.0 }"#,
+    )
+    .unwrap()
+}
+
+#[test]
+fn a_transition_slower_than_the_time_to_collision_is_flagged_early_with_its_slowdown() {
+    let events = simulate(&closing_ball()).unwrap().events;
+    let slow = events
+        .iter()
+        .find_map(|e| match e.kind {
+            EventKind::TransitionTooSlow {
+                time_to_collision,
+                remaining,
+                braking,
+                slowdown,
+                ..
+            } => Some((e.t, time_to_collision, remaining, braking, slowdown)),
+            _ => None,
+        })
+        .expect("transitionTooSlow");
+    let (t, ttc, remaining, braking, slowdown) = slow;
+    // Measured at the true closest point (link 3), not at the travelling
+    // control point: raised within 0.1 s of the jump, well before the end of
+    // the 0.3 s transition.
+    assert!(t > 0.3 && t < 0.4, "raised at {t}");
+    assert!(braking > 0.0 && remaining > 0.0 && ttc < remaining + braking);
+    assert!((slowdown - ttc / (remaining + braking)).abs() < 1e-12);
+    assert!(slowdown > 0.0 && slowdown < 1.0);
+    let unavoidable = events
+        .iter()
+        .find(|e| matches!(e.kind, EventKind::Unavoidable { .. }))
+        .map_or(f64::INFINITY, |e| e.t);
+    assert!(t < unavoidable, "the warning must come first");
+}
+
+#[test]
+fn human_panda_joints_never_reverse_at_speed() {
+    let s = skeleton_avoidance::scenario::example("human-panda").unwrap();
+    let robot = s.build_robot().unwrap();
+    let mut w = skeleton_avoidance::world::World::new(s.clone()).unwrap();
+    let mut prev = vec![0.0; robot.dof()];
+    let mut worst: f64 = 0.0;
+    for _ in 0..(s.duration / s.dt).round() as usize {
+        w.step(s.dt);
+        for (j, &v) in w.state().qdot.iter().enumerate() {
+            if v * prev[j] < 0.0 {
+                worst = worst.max(prev[j].abs() / robot.joints[j].max_velocity);
+            }
+            prev[j] = v;
+        }
+    }
+    // Sensing noise still dithers joints near rest, but a reversal never
+    // starts from more than 5 % of the joint's speed limit.
+    assert!(
+        worst < 0.05,
+        "a joint reversed from {:.1} % of its limit",
+        100.0 * worst
+    );
+}

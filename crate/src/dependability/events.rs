@@ -110,9 +110,12 @@ pub enum EventKind {
         /// Obstacle concerned.
         obstacle: String,
     },
-    /// The time to collision is below the time the control point's
-    /// transition still needs plus the joints' braking time (raised when it
-    /// starts): the protective layer slows the approach to the obstacle.
+    /// The time to collision at the true closest point is below the time
+    /// the control point's transition still needs, plus the joints' braking
+    /// time, while the obstacle itself closes in (raised when it starts):
+    /// the protective layer slows the approach to the obstacle. (With the
+    /// protective layer off, the arm's own approach to a still obstacle
+    /// counts too, without the braking time.)
     TransitionTooSlow {
         /// Obstacle concerned.
         obstacle: String,
@@ -120,7 +123,8 @@ pub enum EventKind {
         time_to_collision: f64,
         /// Remaining transition time (s).
         remaining: f64,
-        /// Time the joints need to come to rest (s).
+        /// Time the joints need to come to rest (s; counted when the
+        /// obstacle closes in, else 0).
         braking: f64,
         /// Factor applied to the arm's allowed approach speed towards the
         /// obstacle: `time to collision / (remaining + braking)`.

@@ -37,14 +37,17 @@
 //!   `stop` (joint velocities brought to zero with bounded deceleration while
 //!   the chattering lasts) or `lock` (the control point held on its current
 //!   segment for `lockTime`).
-//! * **Time to collision**: clearance over the closing speed of the arm's
-//!   material point and the obstacle (from their motions, never from the
-//!   sensing noise; low-pass filtered), compared with the time the
-//!   transition still needs plus the time the joints need to brake. When it
-//!   is shorter, [`EventKind::TransitionTooSlow`] is raised and the
-//!   protective layer scales the arm's requested velocity by
-//!   `time to collision / (remaining + braking)` until it is not (the event
-//!   says by how much).
+//! * **Time to collision**: at the true closest point (the witness the
+//!   control point is heading for, not where it travels), the clearance
+//!   over the closing speed of the arm's material point there and the
+//!   obstacle (from their motions, never from the sensing noise; low-pass
+//!   filtered). While the obstacle closes in, it is compared with the time
+//!   the transition still needs plus the time the joints need to brake;
+//!   when it is shorter, [`EventKind::TransitionTooSlow`] is raised and the
+//!   protective layer scales the arm's allowed approach speed towards that
+//!   obstacle by `time to collision / (remaining + braking)` (the event
+//!   says by how much). The arm's own approach to a still obstacle is left
+//!   to the guards, which slow it as the clearance shrinks.
 //!
 //! Every such event goes into the trace with its time ([`Event`]).
 

@@ -33,7 +33,7 @@ use glam::DVec3;
 use crate::avoidance::limits::JointMotion;
 use crate::avoidance::protect::{Guard, GuardPair};
 use crate::avoidance::selection::Key;
-use crate::avoidance::{ControllerConfig, TaskReference};
+use crate::avoidance::{ActivePoint, ControllerConfig, TaskReference};
 use crate::dependability::{Event, EventKind};
 use crate::distance::{Primitive, PrimitiveSpec, Scene};
 use crate::error::FieldError;
@@ -107,10 +107,14 @@ pub struct World {
     /// Per obstacle, the factor on the arm's allowed approach speed when a
     /// transition plus braking would not end before contact (1: none).
     slowdown: Vec<f64>,
-    /// Standard deviation of each joint's command from the sensing errors
-    /// (`None` when every obstacle is sensed exactly).
-    command_sigma: Option<Vec<f64>>,
+    /// The last step's active points and, for the control points that
+    /// answer an obstacle sensed with error, what their propagation needs
+    /// (computed when the state is read: [`World::propagation`]).
+    active: Vec<ActivePoint>,
+    sigma_inputs: Vec<uncertainty::SigmaInput>,
     step_t: f64,
+    step_qdot: Vec<f64>,
+    step_dt: f64,
     step_q: Vec<f64>,
 }
 
@@ -192,8 +196,11 @@ impl World {
             min_clearance: None,
             time_to_collision: None,
             slowdown: Vec::new(),
-            command_sigma: None,
+            active: Vec::new(),
+            sigma_inputs: Vec::new(),
             step_t: 0.0,
+            step_qdot: Vec::new(),
+            step_dt: 0.0,
             step_q: Vec::new(),
         };
         w.rebuild_scene(0.0, false);

@@ -162,6 +162,11 @@ impl World {
     #[must_use]
     pub fn state_since(&self, cursor: usize) -> WorldState {
         let sk = &self.skeleton;
+        let (sigmas, command_sigma) = self.propagation();
+        let mut control_points = self.points.clone();
+        for (c, s) in control_points.iter_mut().zip(sigmas) {
+            c.sigma = s;
+        }
         let obstacles = self
             .obstacles
             .iter()
@@ -198,7 +203,7 @@ impl World {
                     .collect(),
             },
             obstacles,
-            control_points: self.points.clone(),
+            control_points,
             uncertainty: self
                 .obstacles
                 .iter()
@@ -213,7 +218,7 @@ impl World {
                 })
                 .collect(),
             command: self.request.clone(),
-            command_sigma: self.command_sigma.clone(),
+            command_sigma,
             events: self
                 .events
                 .get(cursor.saturating_sub(self.events_dropped)..)
@@ -228,6 +233,7 @@ impl World {
     /// last step acted on.
     #[must_use]
     pub fn sample(&self) -> Sample {
+        let (sigmas, command_sigma) = self.propagation();
         Sample {
             t: self.step_t,
             q: self.step_q.clone(),
@@ -235,17 +241,18 @@ impl World {
             control_points: self
                 .points
                 .iter()
-                .map(|c| TracePoint {
+                .zip(sigmas)
+                .map(|(c, sigma)| TracePoint {
                     position: c.position,
                     link: c.link,
                     d: c.d,
                     a: c.a,
                     obstacle: c.obstacle.clone(),
                     distance: c.distance,
-                    sigma: c.sigma,
+                    sigma,
                 })
                 .collect(),
-            command_sigma: self.command_sigma.clone(),
+            command_sigma,
         }
     }
 }

@@ -14,10 +14,10 @@ use crate::distance::{PairDistance, QueryOptions, Target};
 use crate::error::FieldError;
 use crate::kinematics::ik::PointMotion;
 use crate::skeleton::Skeleton;
-use crate::transition::dh_motion;
+use crate::transition::{SkeletonPoint, dh_motion};
 
 use super::state::ControlPointState;
-use super::uncertainty::Probes;
+use super::uncertainty::SigmaInput;
 
 /// Factor on the braking time when deciding that an obstacle outruns the
 /// arm's retreat (see [`World::protect`]).
@@ -67,10 +67,14 @@ impl World {
         // 4.–5. transition and monitor
         self.monitor_switch_risk(&pairs, &selected, &cfg);
         self.track(&selected, &pairs, dt, &cfg)?;
-        let (active, probes) = self.active_points(&cfg, dt)?;
-        // 6. control, and the propagation of the sensing errors
+        let active = self.active_points(&cfg, dt)?;
+        // 6. control (what the propagation of the sensing errors needs is
+        // kept, and computed when the state is read)
+        self.step_qdot.clone_from(&self.motion.qdot);
+        self.step_q.clone_from(&self.q);
+        self.step_dt = dt;
         self.control(&cfg, &active, dt)?;
-        self.command_sigma = self.command_sigma(&cfg, &active, &probes, dt)?;
+        self.active = active;
         // 7. protect
         let all_hold = self.protect(&cfg, &pairs, dt)?;
         self.maybe_resume(all_hold);
@@ -146,9 +150,9 @@ impl World {
         &mut self,
         cfg: &ControllerConfig,
         dt: f64,
-    ) -> Result<(Vec<ActivePoint>, Vec<Option<Probes>>), FieldError> {
+    ) -> Result<Vec<ActivePoint>, FieldError> {
         let mut active = Vec::new();
-        let mut probes = Vec::new();
+        let mut sigma_inputs = Vec::new();
         let mut states = Vec::new();
         let mut min_ttc = f64::INFINITY;
         let braking = braking_time(&self.robot, &self.motion, dt);
@@ -196,17 +200,28 @@ impl World {
                 (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
                 _ => self.name(&key),
             };
-            let closing = self.closing_speed(&key, &dh, owner, normal, dt);
+            let at = selected_at.filter(|_| remaining > 0.0);
+            let (ttc_dh, ttc_normal, ttc_clearance) =
+                self.ttc_point(&key, at, owner, (dh, normal, effective))?;
+            let closing = self.closing_speed(&key, &ttc_dh, owner, ttc_normal, dt);
             let closing = match (prev, closing) {
                 (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
                 (_, c) => c,
             };
-            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(effective, c));
+            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(ttc_clearance, c));
             min_ttc = min_ttc.min(ttc);
-            // The transition must end, and the arm be able to brake, before
-            // contact: otherwise the protective layer slows the approach.
-            let needed = remaining + braking;
-            let too_slow = remaining > 0.0 && ttc < needed;
+            // The transition must end before contact and, when the obstacle
+            // itself closes in, the arm must also be able to brake before it
+            // arrives: otherwise the protective layer slows the approach.
+            // With the guards on, the arm's own approach to a still obstacle
+            // cannot end in contact (a velocity damper slows it as the
+            // clearance shrinks), so only an obstacle that closes in can
+            // make a transition too slow.
+            let coming = owner
+                .is_some_and(|o| -ttc_normal.dot(self.obstacles[o].velocity(self.t, dt)) > 0.0);
+            let guarded = cfg.protective.enabled;
+            let needed = remaining + if coming { braking } else { 0.0 };
+            let too_slow = remaining > 0.0 && ttc < needed && (coming || !guarded);
             let slowdown = if too_slow {
                 (ttc / needed).clamp(0.0, 1.0)
             } else {
@@ -224,7 +239,7 @@ impl World {
                     obstacle: name.clone(),
                     time_to_collision: ttc,
                     remaining,
-                    braking,
+                    braking: needed - remaining,
                     slowdown,
                 });
             }
@@ -232,11 +247,19 @@ impl World {
                 DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
                     .ok()
             });
-            let sigma =
-                owner.and_then(|o| self.point_sigma(o, position, radius, selected_at, cfg, gain));
+            if let Some(owner) = owner.filter(|&o| !self.obstacles[o].covariance.is_zero()) {
+                sigma_inputs.push(SigmaInput {
+                    point: states.len(),
+                    active: dist.is_finite().then_some(active.len()),
+                    owner,
+                    position,
+                    radius,
+                    witness: selected_at,
+                    gain,
+                });
+            }
             if dist.is_finite() {
                 active.push(ap);
-                probes.push(sigma.map(|s| s.1));
             }
             states.push(ControlPointState {
                 position: position.to_array(),
@@ -249,12 +272,35 @@ impl World {
                 repulsion: (ap.repulsion(cfg) * gain).to_array(),
                 transitioning: target.is_some(),
                 target,
-                sigma: sigma.map(|s| s.0),
+                sigma: None,
             });
         }
         self.points = states;
+        self.sigma_inputs = sigma_inputs;
         self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
-        Ok((active, probes))
+        Ok(active)
+    }
+
+    /// Where the time to collision is measured: at the true closest point,
+    /// the selected witness `at` while the control point still travels to
+    /// it (the obstacle reaches the arm there, not where the control point
+    /// is), else at the control point itself, `here` = (DH point, normal,
+    /// clearance with the margin subtracted).
+    fn ttc_point(
+        &self,
+        key: &Key,
+        at: Option<SkeletonPoint>,
+        owner: Option<usize>,
+        here: (DhPoint, DVec3, f64),
+    ) -> Result<(DhPoint, DVec3, f64), FieldError> {
+        let Some(at) = at else { return Ok(here) };
+        let dh =
+            DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, at.segment, at.t)?;
+        let radius = Skeleton::radius_at(&self.skeleton.segments[at.segment], at.t);
+        let position = dh.position(&self.robot, &self.frames);
+        let (d, normal, _, owner) = self.locate(key, owner, position, radius)?;
+        let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
+        Ok((dh, normal, d - margin))
     }
 
     /// The obstacle pinned point `k` answers: the closest one, unless a
@@ -329,7 +375,7 @@ impl World {
             .task
             .references(&self.robot, self.t, &self.anchors, &mut refs);
         self.references = refs;
-        self.request = self.request_for(cfg, active, dt)?;
+        self.request = self.request_for(cfg, active, &self.q, &self.motion.qdot, dt)?;
         if self.stopped {
             self.request.iter_mut().for_each(|v| *v = 0.0);
         }
@@ -342,18 +388,18 @@ impl World {
         &self,
         cfg: &ControllerConfig,
         active: &[ActivePoint],
+        q: &[f64],
+        qdot: &[f64],
         dt: f64,
     ) -> Result<Vec<f64>, FieldError> {
-        let (robot, frames, qdot) = (&self.robot, &self.frames, &self.motion.qdot);
+        let (robot, frames) = (&self.robot, &self.frames);
         let refs = &self.references;
         Ok(match cfg.mode {
             Mode::Velocity => avoidance::velocity_control(robot, frames, active, refs, cfg)?,
             Mode::Torque => {
                 avoidance::torque_control(robot, frames, qdot, active, refs, cfg, dt)?.0
             }
-            Mode::Clik2 => {
-                avoidance::clik2_control(robot, frames, &self.q, qdot, active, refs, cfg, dt)?
-            }
+            Mode::Clik2 => avoidance::clik2_control(robot, frames, q, qdot, active, refs, cfg, dt)?,
         })
     }
 
@@ -492,7 +538,6 @@ impl World {
     /// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`.
     fn limit_and_integrate(&mut self, dt: f64) {
         self.step_t = self.t;
-        self.step_q.clone_from(&self.q);
         // A chattering stop decelerates gently (`maxDeceleration`); a stop
         // before an unavoidable contact and the emergency brake use every
         // joint's full deceleration.

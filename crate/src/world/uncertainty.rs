@@ -1,9 +1,12 @@
 //! The *propagate* stage of a [`World`] step: first-order standard
 //! deviations, caused by the sensing errors, of each control point's
 //! clearance, of its witness's DH values, of its repulsion and of the joint
-//! command ([`crate::dependability::propagate`]). Runs only for obstacles
-//! sensed with a random error; it reads the step's data and changes none
-//! of it, so the motion is the same with or without it.
+//! command ([`crate::dependability::propagate`]). The step keeps what it
+//! needs ([`SigmaInput`]) for the control points that answer an obstacle
+//! sensed with a random error; the figures are computed when the state or a
+//! trace sample is read ([`World::propagation`]), from the step's own data,
+//! so they cost nothing to steps nobody reads and change nothing in the
+//! motion.
 
 use glam::DVec3;
 
@@ -13,7 +16,7 @@ use serde::Serialize;
 
 use super::World;
 use super::obstacles::SwitchOdds;
-use crate::avoidance::{ActivePoint, ControllerConfig, repulsion_speed};
+use crate::avoidance::{ControllerConfig, repulsion_speed};
 use crate::control_point::DhPoint;
 use crate::dependability::propagate::{Covariance, FD_STEP};
 use crate::dependability::{PointSigma, SensingSpec, SensorModel, switch_probability};
@@ -85,6 +88,24 @@ pub(super) fn segment_odds<'a>(
     (odds, alt)
 }
 
+/// What the propagation needs of one control point of the last step.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SigmaInput {
+    /// Index among the step's control points.
+    pub(super) point: usize,
+    /// Index among the step's active points (those the controller used).
+    pub(super) active: Option<usize>,
+    /// The obstacle it answers.
+    pub(super) owner: usize,
+    pub(super) position: DVec3,
+    pub(super) radius: f64,
+    /// The selected witness it follows (`None`: a pinned point).
+    pub(super) witness: Option<SkeletonPoint>,
+    /// Factor from repulsion velocity to what the state shows (force in
+    /// torque mode).
+    pub(super) gain: f64,
+}
+
 /// What the command's propagation needs of one active control point: the
 /// obstacle it answers and what the controller sees of the point with that
 /// obstacle moved by `±h` along x, y and z (in that order).
@@ -117,6 +138,30 @@ fn axis_offsets() -> [DVec3; 6] {
 }
 
 impl World {
+    /// The first-order standard deviations of the last step: per control
+    /// point (in the order of the state's control points, `None` for those
+    /// answering nothing noisy) and per joint command (`None` when no
+    /// control point answers a noisy obstacle).
+    #[must_use]
+    pub fn propagation(&self) -> (Vec<Option<PointSigma>>, Option<Vec<f64>>) {
+        let cfg = &self.scenario.controller;
+        let mut points = vec![None; self.points.len()];
+        let mut probes = vec![None; self.active.len()];
+        for input in &self.sigma_inputs {
+            let Some((sigma, p)) = self.point_sigma(input, cfg) else {
+                continue;
+            };
+            if let Some(slot) = points.get_mut(input.point) {
+                *slot = Some(sigma);
+            }
+            if let Some(slot) = input.active.and_then(|k| probes.get_mut(k)) {
+                *slot = Some(p);
+            }
+        }
+        let command = self.command_sigma(cfg, &probes).ok().flatten();
+        (points, command)
+    }
+
     /// The pairs between the arm now and the figure `shape` (not added),
     /// whatever their distance.
     pub(super) fn pairs_with(&self, shape: &ShapeSpec) -> Result<Vec<PairDistance>, ScenarioError> {
@@ -176,20 +221,24 @@ impl World {
     }
 
     /// The standard deviations of a control point answering obstacle
-    /// `owner`, with the probes the command's propagation needs; `None`
+    /// `input.owner`, with the probes the command's propagation needs; `None`
     /// when the obstacle is sensed exactly. A point that follows its
-    /// selected witness (on segment `witness.segment`) moves with it, so
-    /// its clearance, normal and DH values are the witness pair's; a pinned
-    /// point (`witness` `None`) stays at `position` (radius `radius`).
-    pub(super) fn point_sigma(
+    /// selected witness moves with it, so its clearance, normal and DH
+    /// values are the witness pair's; a pinned point (no witness) stays
+    /// where it is.
+    fn point_sigma(
         &self,
-        owner: usize,
-        position: DVec3,
-        radius: f64,
-        witness: Option<SkeletonPoint>,
+        input: &SigmaInput,
         cfg: &ControllerConfig,
-        gain: f64,
     ) -> Option<(PointSigma, Probes)> {
+        let SigmaInput {
+            owner,
+            position,
+            radius,
+            witness,
+            gain,
+            ..
+        } = *input;
         let o = &self.obstacles[owner];
         if o.covariance.is_zero() {
             return None;
@@ -278,13 +327,12 @@ impl World {
     /// with each noisy obstacle moved by `±h` along each axis (its control
     /// points' clearances and normals from their probes), the obstacles'
     /// errors independent of each other.
-    pub(super) fn command_sigma(
+    fn command_sigma(
         &self,
         cfg: &ControllerConfig,
-        active: &[ActivePoint],
         probes: &[Option<Probes>],
-        dt: f64,
     ) -> Result<Option<Vec<f64>>, FieldError> {
+        let active = &self.active;
         let mut owners: Vec<usize> = probes.iter().flatten().map(|p| p.owner).collect();
         owners.sort_unstable();
         owners.dedup();
@@ -305,7 +353,7 @@ impl World {
                             m.dh = v.dh.unwrap_or(m.dh);
                         }
                     }
-                    self.request_for(cfg, &moved, dt)
+                    self.request_for(cfg, &moved, &self.step_q, &self.step_qdot, self.step_dt)
                 };
                 let (plus, minus) = (run(2 * k)?, run(2 * k + 1)?);
                 *column = plus
