@@ -253,7 +253,7 @@ impl Scenario {
 /// the robot.
 ///
 /// # Errors
-/// `influenceDistance: must be > 0`, `pinned[0].link: 9 is out of range 1..=7`, …
+/// `influenceDistance: must be > 0`, `pinned[0].link: 9 is not a link of this robot (links 1 to 7)`, …
 pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), FieldError> {
     c.validate()?;
     if let Some(w) = &c.joint_weights

@@ -229,7 +229,10 @@ fn check_chain(chain: usize, robot: &Robot) -> Result<(), FieldError> {
     if chain >= robot.chains.len() {
         return Err(FieldError::new(
             "chain",
-            format!("{chain} is out of range 0..{}", robot.chains.len()),
+            format!(
+                "{chain} is not a chain of this robot (chains 0 to {})",
+                robot.chains.len().saturating_sub(1)
+            ),
         ));
     }
     Ok(())

@@ -70,7 +70,7 @@ fn expected_words(expected: &str) -> String {
     if expected.starts_with("internally tagged") || expected.starts_with("adjacently tagged") {
         return "an object { type, … }".to_owned();
     }
-    if expected == "string or map" {
+    if expected == "string or map" || expected.starts_with("map with a single key") {
         return "a string".to_owned();
     }
     if expected == "f64" || expected == "f32" {
