@@ -95,6 +95,7 @@ const METHODS = [
   ['setController', (r) => [arg(r, CONTROLLER)], true],
   ['riskAt', (r) => [arg(r, r.pick(PRIMITIVES)), r.chance(0.5) ? undefined : arg(r, { bound: 0.01, sigma: 0.005 })]],
   ['pick', (r) => [arg(r, [0, 0, 2]), arg(r, [0, 0, -1])]],
+  ['pickSkeleton', (r) => [arg(r, [0.3, 0, 2]), arg(r, [0, 0, -1])]],
   ['reset', () => []],
 ];
 
