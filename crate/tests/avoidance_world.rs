@@ -376,6 +376,55 @@ fn scenario_validation_names_the_json_path_and_the_reason() {
         { "id": "a", "shape": { "type": "human" } } ] }"#;
     let e = Scenario::from_json(missing).unwrap_err().to_string();
     assert!(e.starts_with("obstacles[0].shape"), "{e}");
+    // Motions, tasks and humans keep the path of a bad value too (they used
+    // to be read through serde's buffered tagged enums, which lose it).
+    let paths = [
+        (
+            r#"{ "id": "a", "shape": { "type": "point", "p": [0, 1, 1] },
+                 "motion": { "type": "waypoints", "points": [[0, 0, 0], [1, 2]], "times": [0, 1] } }"#,
+            "obstacles[0].motion.points[1]: invalid length 2",
+        ),
+        (
+            r#"{ "id": "a", "shape": { "type": "point", "p": [0, 1, 1] },
+                 "motion": { "type": "linear", "velocity": [0, 0, 0], "period": 1 } }"#,
+            "obstacles[0].motion: `period` is not a field of a linear motion",
+        ),
+        (
+            r#"{ "id": "a", "shape": { "type": "point", "p": [0, 1, 1] }, "motion": { "type": "spin" } }"#,
+            "obstacles[0].motion.type: unknown motion \"spin\"",
+        ),
+        (
+            r#"{ "id": "a", "shape": { "type": "human", "position": [0, 1] } }"#,
+            "obstacles[0].shape.position: invalid length 2",
+        ),
+    ];
+    for (obstacle, expected) in paths {
+        let json = format!(
+            r#"{{ "robot": {{ "preset": "lwr4" }}, "dt": 0.001, "duration": 1, "obstacles": [{obstacle}] }}"#
+        );
+        let e = Scenario::from_json(&json).unwrap_err().to_string();
+        assert!(e.starts_with(expected), "{e}");
+    }
+    for (task, expected) in [
+        (
+            r#"{ "type": "goal", "position": [1, 2] }"#,
+            "task.position: invalid length 2",
+        ),
+        (
+            r#"[{ "type": "hold" }, { "type": "trajectory", "points": [[0, 0, "x"]], "times": [0] }]"#,
+            "task[1].points[0][2]: invalid type",
+        ),
+        (
+            r#"{ "type": "hold", "chain": 1 }"#,
+            "task: `chain` is not a field",
+        ),
+    ] {
+        let json = format!(
+            r#"{{ "robot": {{ "preset": "lwr4" }}, "dt": 0.001, "duration": 1, "obstacles": [], "task": {task} }}"#
+        );
+        let e = Scenario::from_json(&json).unwrap_err().to_string();
+        assert!(e.starts_with(expected), "{e}");
+    }
     let cases = [
         (
             r#"{ "robot": { "preset": "lwr4" }, "obstacles": [], "dt": 0, "duration": 1 }"#,

@@ -565,7 +565,7 @@ fn bad_input_names_the_field() {
         }
         .validate(&r, &frames)
         .unwrap_err()),
-        "link: 8 is out of range 1..=7"
+        "link: 8 is not a link of this robot (links 1 to 7)"
     );
     assert_eq!(
         msg(DhPoint {
@@ -575,7 +575,7 @@ fn bad_input_names_the_field() {
         }
         .validate(&r, &frames)
         .unwrap_err()),
-        "link: 0 is out of range 1..=7"
+        "link: 0 is not a link of this robot (links 1 to 7)"
     );
     assert!(
         msg(DhPoint {

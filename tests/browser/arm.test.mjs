@@ -237,7 +237,7 @@ test('the Viewer rejects bad input with an Error naming the problem', async () =
     assert.match(messages.wordInQ, /q\[1\]: not a number/);
     assert.match(messages.preset, /robot\.preset: unknown robot "nope"/);
     assert.match(messages.display, /display\.volume: unknown field/);
-    assert.match(messages.displayType, /display\.nodes: expected a boolean, got string "yes"/);
+    assert.match(messages.displayType, /display\.nodes: expected true or false, got the string "yes"/);
     assert.match(messages.displayArray, /display: expected an object/);
     assert.match(messages.view, /view: expected .*"sideways"/);
     assert.match(messages.zoom, /zoom\.factor: must be > 0/);

@@ -167,14 +167,14 @@ impl DhPoint {
     /// link's span.
     ///
     /// # Errors
-    /// `link: 9 is out of range 1..=7`, `d: not a finite number`,
+    /// `link: 9 is not a link of this robot (links 1 to 7)`, `d: not a finite number`,
     /// `a: 0.5 is outside the link's span [0, 0.3]`.
     pub fn validate(&self, robot: &Robot, frames: &Frames) -> Result<(), FieldError> {
         let n = robot.dof();
         if self.link < 1 || self.link > n {
             return Err(FieldError::new(
                 "link",
-                format!("{} is out of range 1..={n}", self.link),
+                format!("{} is not a link of this robot (links 1 to {n})", self.link),
             ));
         }
         finite("d", self.d)?;
@@ -269,7 +269,7 @@ impl DhPoint {
     /// segment `segment`.
     ///
     /// # Errors
-    /// `segment: 12 is out of range 0..11`, `t: must be within [0, 1]`.
+    /// `segment: 12 is not a segment of this skeleton (segments 0 to 10)`, `t: must be within [0, 1]`.
     pub fn from_skeleton(
         robot: &Robot,
         frames: &Frames,
@@ -280,7 +280,13 @@ impl DhPoint {
         let s = skeleton.segments.get(segment).ok_or_else(|| {
             FieldError::new(
                 "segment",
-                format!("{segment} is out of range 0..{}", skeleton.segments.len()),
+                match skeleton.segments.len() {
+                    0 => format!("{segment}: this skeleton has no segments"),
+                    n => format!(
+                        "{segment} is not a segment of this skeleton (segments 0 to {})",
+                        n - 1
+                    ),
+                },
             )
         })?;
         finite("t", t)?;

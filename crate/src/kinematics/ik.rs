@@ -17,7 +17,7 @@ use crate::linalg::{Damping, Mat, dls_inverse};
 /// of chain `chain` (0 = main chain).
 ///
 /// # Errors
-/// `chain: 3 is out of range 0..2`.
+/// `chain: 3 is not a chain of this robot (chains 0 to 1)`.
 pub fn end_effector_jacobian(
     robot: &Robot,
     frames: &Frames,
@@ -26,7 +26,10 @@ pub fn end_effector_jacobian(
     let c = robot.chains.get(chain).ok_or_else(|| {
         FieldError::new(
             "chain",
-            format!("{chain} is out of range 0..{}", robot.chains.len()),
+            format!(
+                "{chain} is not a chain of this robot (chains 0 to {})",
+                robot.chains.len().saturating_sub(1)
+            ),
         )
     })?;
     let p = frames.end_effectors[chain].translation;

@@ -25,6 +25,7 @@ use crate::kinematics::{Robot, RobotSpec, presets};
 mod examples;
 mod obstacle;
 mod sensing;
+mod tagged;
 mod task;
 mod trace;
 
@@ -101,6 +102,11 @@ fn nested<T: serde::de::DeserializeOwned, E: serde::de::Error>(
 impl<'de> Deserialize<'de> for RobotRef {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let v = serde_json::Value::deserialize(d)?;
+        if !v.is_object() {
+            return Err(serde::de::Error::custom(
+                "expected a robot spec { convention, joints, … } or { preset: name }",
+            ));
+        }
         if v.get("preset").is_some() {
             let p: PresetRef = nested(v)?;
             Ok(Self::Preset(p.preset))
@@ -247,7 +253,7 @@ impl Scenario {
 /// the robot.
 ///
 /// # Errors
-/// `influenceDistance: must be > 0`, `pinned[0].link: 9 is out of range 1..=7`, …
+/// `influenceDistance: must be > 0`, `pinned[0].link: 9 is not a link of this robot (links 1 to 7)`, …
 pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), FieldError> {
     c.validate()?;
     if let Some(w) = &c.joint_weights

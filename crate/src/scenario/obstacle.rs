@@ -85,7 +85,7 @@ pub enum ShapeSpec {
     Human(HumanSpec),
 }
 
-#[derive(Serialize, Deserialize)]
+#[derive(Serialize)]
 #[serde(tag = "type", rename_all = "camelCase")]
 enum HumanTagged {
     Human(HumanSpec),
@@ -95,8 +95,13 @@ impl<'de> Deserialize<'de> for ShapeSpec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let v = serde_json::Value::deserialize(d)?;
         if v.get("type").and_then(|t| t.as_str()) == Some("human") {
-            let HumanTagged::Human(h) = nested(v)?;
-            Ok(Self::Human(h))
+            // Read the fields directly (not through the tagged enum, which
+            // buffers them and loses the path of a bad value).
+            let mut fields = v;
+            if let Some(map) = fields.as_object_mut() {
+                map.remove("type");
+            }
+            Ok(Self::Human(nested(fields)?))
         } else {
             Ok(Self::Primitive(nested(v)?))
         }
@@ -231,8 +236,15 @@ pub fn primitives(shape: &ShapeSpec) -> Result<Vec<Primitive>, FieldError> {
 }
 
 /// How an obstacle moves: a translation of the whole figure over time.
+///
+/// It is read through a flat struct of every key (see `tagged.rs`), so that
+/// an error names the exact place (`motion.points[1]`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "camelCase", deny_unknown_fields)]
+#[serde(
+    tag = "type",
+    rename_all = "camelCase",
+    try_from = "super::tagged::MotionFields"
+)]
 pub enum Motion {
     /// Does not move (default).
     #[default]

@@ -34,9 +34,14 @@ pub struct DhValues {
     pub a: f64,
 }
 
-/// One task.
+/// One task. It is read through a flat struct of every key (see
+/// `tagged.rs`), so that an error names the exact place (`task.position`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "camelCase", deny_unknown_fields)]
+#[serde(
+    tag = "type",
+    rename_all = "camelCase",
+    try_from = "super::tagged::TaskFields"
+)]
 pub enum TaskSpec {
     /// Keep the end effector of `chain` where it starts (default).
     #[default]
@@ -84,7 +89,7 @@ pub enum TaskSpec {
 }
 
 /// The scenario's `task` field: one task or a list (at most one per chain).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum Tasks {
     /// One task.
@@ -224,7 +229,10 @@ fn check_chain(chain: usize, robot: &Robot) -> Result<(), FieldError> {
     if chain >= robot.chains.len() {
         return Err(FieldError::new(
             "chain",
-            format!("{chain} is out of range 0..{}", robot.chains.len()),
+            format!(
+                "{chain} is not a chain of this robot (chains 0 to {})",
+                robot.chains.len().saturating_sub(1)
+            ),
         ));
     }
     Ok(())

@@ -121,12 +121,46 @@ function snapshot(value, field) {
   );
 }
 
+/** The kind of a JS value, for messages (`a string`, `an object`, …). */
+const kindOf = (v) => (v === null ? 'null' : Array.isArray(v) ? 'an array' : v === undefined ? 'undefined' : /^[aeiou]/.test(typeof v) ? `an ${typeof v}` : `a ${typeof v}`);
+
+/**
+ * Checks or reads one argument as `spec` says: `name` (plain data, read
+ * once), `name:number` (a finite JS number, no coercion), `name:number?`
+ * (the same, or undefined / null), `name:World` (a live `World`, passed
+ * as it is).
+ */
+function argument(value, spec) {
+  const [name, kind] = spec.split(':');
+  switch (kind) {
+    case undefined:
+      return snapshot(value, name);
+    case 'number?':
+      if (value === undefined || value === null) return undefined;
+    // falls through
+    case 'number':
+      if (typeof value !== 'number') throw new Error(`${name}: expected a number, got ${kindOf(value)}`);
+      if (!Number.isFinite(value)) throw new Error(`${name}: not a finite number`);
+      return value;
+    case 'World':
+      if (value === null || typeof value !== 'object' || !('__wbg_ptr' in value)) {
+        throw new Error(`${name}: expected a World, got ${kindOf(value)}`);
+      }
+      if (!value.__wbg_ptr) throw new Error(`${name}: this World has been freed`);
+      return value;
+    default:
+      return value;
+  }
+}
+
 /**
  * Guards the methods of an exported class, given one instance: each
- * argument is read into plain data before wasm borrows the object (so a
- * getter that throws, or calls back into the object, cannot leave it
- * borrowed), and a freed object throws `Error: this <name> has been freed`
- * instead of trapping; a second `free()` does nothing.
+ * argument is checked (numbers) or read into plain data (objects) before
+ * wasm borrows the object (so a getter that throws, or calls back into the
+ * object, cannot leave it borrowed), and a freed object throws
+ * `Error: this <name> has been freed` instead of trapping; a second
+ * `free()` does nothing. `argNames` maps a method to its argument specs
+ * (see `argument`).
  */
 export function guardClass(instance, name, argNames) {
   const proto = Object.getPrototypeOf(instance);
@@ -154,7 +188,9 @@ export function guardClass(instance, name, argNames) {
             }
           : function (...args) {
               if (!this.__wbg_ptr) throw freed();
-              const plain = args.map((a, i) => snapshot(a, names[i] || `argument ${i + 1}`));
+              // Arguments past the method's own are ignored, never read.
+              const n = Math.max(names.length, method.length);
+              const plain = Array.from({ length: n }, (_, i) => argument(args[i], names[i] || `argument ${i + 1}`));
               if (!this.__wbg_ptr) throw freed();
               return method.apply(this, plain);
             };

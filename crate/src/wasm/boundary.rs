@@ -178,3 +178,34 @@ pub fn check_magnitudes(field: &str, json: &serde_json::Value) -> Result<(), JsE
         _ => Ok(()),
     }
 }
+
+/// Argument specs of the `Viewer` methods (see `argument` in `boundary.js`):
+/// numbers are checked for their JS type before wasm coerces them (`'1'`,
+/// `true` and `undefined` would become 1, 1 and NaN), objects are read once.
+#[cfg(feature = "render")]
+const VIEWER_ARGS: &[(&str, &[&str])] = &[
+    ("setRobot", &["robot"]),
+    ("drawState", &["state"]),
+    ("drawWorld", &["world:World"]),
+    ("setSelected", &["id"]),
+    ("projectPoint", &["point"]),
+    ("setJoints", &["q"]),
+    ("setDisplay", &["display"]),
+    ("setView", &["name"]),
+    ("orbit", &["dx:number", "dy:number"]),
+    ("pan", &["dx:number", "dy:number"]),
+    ("zoom", &["factor:number"]),
+    ("fit", &["fill:number?"]),
+    ("resize", &["width:number", "height:number"]),
+    ("rayAt", &["x:number", "y:number"]),
+];
+
+/// `viewer` handed to JavaScript with its class guarded like `World`'s:
+/// typed arguments, `Error: this Viewer has been freed` after `free()`, a
+/// second `free()` a no-op.
+#[cfg(feature = "render")]
+pub fn guarded_viewer(viewer: super::viewer::Viewer) -> JsValue {
+    let instance = JsValue::from(viewer);
+    guard_class(&instance, "Viewer", VIEWER_ARGS);
+    instance
+}

@@ -6,6 +6,7 @@ use serde::de::DeserializeOwned;
 use wasm_bindgen::prelude::*;
 
 use super::boundary::{check_magnitudes, read_json, type_name};
+pub use super::messages::plain_reason;
 use crate::error::FieldError;
 use crate::kinematics::{Robot, RobotSpec, presets};
 
@@ -96,45 +97,58 @@ pub fn from_json_at<T: DeserializeOwned>(
     })
 }
 
-/// Rust number types as serde names them in messages.
-const NUMBER_TYPES: &[&str] = &[
-    "f64", "f32", "u8", "u16", "u32", "u64", "usize", "i8", "i16", "i32", "i64", "isize",
-];
+/// Refuses an array given where `value` (read from `input`) holds an
+/// object: serde reads a struct from a positional array in field order
+/// (`damping: [0.1]` would set `epsilon`), which from JS is a mistake.
+/// Compares `input` with `value` written back as JSON.
+///
+/// # Errors
+/// `prefix.path: expected an object { a, b }, got an array`.
+pub fn refuse_positional<T: Serialize>(
+    prefix: &str,
+    input: &serde_json::Value,
+    value: &T,
+) -> Result<(), JsError> {
+    let Ok(output) = serde_json::to_value(value) else {
+        return Ok(());
+    };
+    match positional_at(input, &output, prefix) {
+        Some((path, fields)) => Err(js_error(&FieldError::new(
+            path,
+            format!(
+                "expected an object {{ {} }}, got an array",
+                fields.join(", ")
+            ),
+        ))),
+        None => Ok(()),
+    }
+}
 
-/// A serde message in the project's words: what was expected, never a Rust
-/// type name (`invalid type: integer `5`, expected struct DampingConfig` →
-/// `expected an object, got 5`).
-pub fn plain_reason(reason: &str) -> String {
-    if let Some(rest) = reason.strip_prefix("data did not match any variant of untagged enum ") {
-        return match rest.trim() {
-            "RadiusSpec" => "expected a number or [r0, r1]".to_owned(),
-            other => format!("not one of the accepted forms of {other}"),
-        };
-    }
-    if let Some(rest) = reason.strip_prefix("invalid type: ")
-        && let Some((got, expected)) = rest.split_once(", expected ")
-    {
-        let expected =
-            if expected.starts_with("struct ") || expected.starts_with("internally tagged") {
-                "an object"
-            } else if NUMBER_TYPES.contains(&expected) {
-                "a number"
-            } else if expected.starts_with("a sequence") || expected.starts_with("an array") {
-                "an array"
+/// The path of the first array in `input` that became an object in
+/// `output`, with that object's keys.
+fn positional_at(
+    input: &serde_json::Value,
+    output: &serde_json::Value,
+    path: &str,
+) -> Option<(String, Vec<String>)> {
+    use serde_json::Value;
+    match (input, output) {
+        (Value::Array(_), Value::Object(o)) => Some((path.to_owned(), o.keys().cloned().collect())),
+        (Value::Array(a), Value::Array(b)) => a
+            .iter()
+            .zip(b)
+            .enumerate()
+            .find_map(|(k, (x, y))| positional_at(x, y, &format!("{path}[{k}]"))),
+        (Value::Object(a), Value::Object(b)) => a.iter().find_map(|(k, x)| {
+            let p = if path.is_empty() {
+                k.clone()
             } else {
-                expected
+                format!("{path}.{k}")
             };
-        let got = got.replace('`', "");
-        return format!("expected {expected}, got {got}");
+            b.get(k).and_then(|y| positional_at(x, y, &p))
+        }),
+        _ => None,
     }
-    if let Some(rest) = reason.strip_prefix("invalid length ")
-        && let Some((n, expected)) = rest.split_once(", expected ")
-    {
-        return format!(
-            "expected {expected}, got {n} elements (in this value or one of its lists)"
-        );
-    }
-    reason.to_owned()
 }
 
 /// Marks a non-finite number in a converted value (JSON has none; see
@@ -216,7 +230,9 @@ pub fn robot(value: JsValue) -> Result<Robot, JsError> {
             Some(map) => {
                 joints_are_objects(map)?;
                 check_magnitudes("", &json)?;
-                from_json_at("", "robot", json)?
+                let spec: RobotSpec = from_json_at("", "robot", json.clone())?;
+                refuse_positional("robot", &json, &spec)?;
+                spec
             }
             None => {
                 return Err(js_error(&FieldError::new(

@@ -87,7 +87,8 @@ impl Viewer {
     /// Rejects with an `Error` when `canvas` is not a canvas, an option is
     /// unknown, or the browser offers neither WebGPU nor WebGL2 (the message
     /// says so in words a person can act on).
-    pub async fn create(canvas: JsValue, options: JsValue) -> Result<Viewer, JsError> {
+    #[wasm_bindgen(unchecked_return_type = "Viewer")]
+    pub async fn create(canvas: JsValue, options: JsValue) -> Result<JsValue, JsError> {
         let canvas: web_sys::HtmlCanvasElement = canvas
             .dyn_into()
             .map_err(|_| JsError::new("canvas: not an HTMLCanvasElement"))?;
@@ -111,10 +112,10 @@ impl Viewer {
         let renderer = Renderer::new(canvas, request, options.antialias)
             .await
             .map_err(|e| JsError::new(&e.to_string()))?;
-        Ok(Viewer {
+        Ok(super::boundary::guarded_viewer(Viewer {
             renderer,
             stage: Stage::new(fixed_view),
-        })
+        }))
     }
 
     /// The backend drawing the canvas: `"webgpu"` or `"webgl2"`.

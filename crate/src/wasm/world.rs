@@ -6,7 +6,7 @@ use glam::DVec3;
 use wasm_bindgen::prelude::*;
 
 use super::boundary::{count_arg, guard_class, number_arg, string_arg};
-use super::convert::{f64_vec, js_error, object_from_js, to_js};
+use super::convert::{f64_vec, from_json_at, js_error, object_from_js, refuse_positional, to_js};
 use crate::dependability::SensingSpec;
 use crate::error::FieldError;
 use crate::scenario::{self, ObstacleSpec, Scenario, ScenarioError, ShapeSpec};
@@ -29,7 +29,8 @@ fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
         return Err(js_error(&FieldError::new("scenario", "expected an object")));
     }
     super::boundary::check_magnitudes("", &json)?;
-    let s: Scenario = super::convert::from_json_at("", "scenario", json)?;
+    let s: Scenario = super::convert::from_json_at("", "scenario", json.clone())?;
+    refuse_positional("", &json, &s)?;
     s.validate().map_err(|e| scenario_error(&e))?;
     Ok(s)
 }
@@ -269,7 +270,9 @@ impl WorldHandle {
     /// A bad spec or an id in use; the world is unchanged.
     #[wasm_bindgen(js_name = addObstacle)]
     pub fn add_obstacle(&mut self, spec: JsValue) -> Result<(), JsError> {
-        let spec: ObstacleSpec = object_from_js("obstacle", spec)?;
+        let json: serde_json::Value = object_from_js("obstacle", spec)?;
+        let spec: ObstacleSpec = from_json_at("obstacle", "obstacle", json.clone())?;
+        refuse_positional("obstacle", &json, &spec)?;
         if self.inner.obstacle_primitives().len() >= MAX_OBSTACLES {
             return Err(js_error(&FieldError::new(
                 "obstacle",
@@ -371,6 +374,7 @@ impl WorldHandle {
             .inner
             .merged_controller(&patch)
             .map_err(|e| scenario_error(&e))?;
+        refuse_positional("controller", &patch, &config)?;
         self.inner
             .set_controller(config)
             .map_err(|e| scenario_error(&e))
