@@ -43,11 +43,13 @@ use crate::skeleton::Skeleton;
 
 mod edit;
 mod obstacles;
+mod probe;
 mod state;
 mod step;
 mod track;
 
 use obstacles::ObstacleState;
+pub use probe::StepProbe;
 pub use state::{
     ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonState, Uncertainty, WorldState,
 };
