@@ -10,6 +10,7 @@ use wasm_bindgen::prelude::*;
 mod boundary;
 mod convert;
 mod kinematics;
+mod study;
 mod urdf;
 mod world;
 
