@@ -92,3 +92,44 @@ fn a_shard_outside_its_range_and_bad_arguments_are_refused() {
     let out = cli(&["merge"], Some("{\"run\": 0}\n"));
     assert!(String::from_utf8_lossy(&out.stderr).contains("stdin:1"));
 }
+
+#[test]
+fn the_slurm_recipe_shards_and_merges_into_the_whole_study() {
+    // docs/batch/monte-carlo.slurm run as four array tasks would run it.
+    let script = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../docs/batch/monte-carlo.slurm"
+    );
+    let scenario = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenarios/chattering.json");
+    let dir = std::env::temp_dir().join(format!("sa-slurm-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for task in 0..4 {
+        let status = Command::new("bash")
+            .args([script, scenario, "6", "3"])
+            .current_dir(&dir)
+            .env("MONTE_CARLO", env!("CARGO_BIN_EXE_monte-carlo"))
+            .env("SLURM_ARRAY_TASK_ID", task.to_string())
+            .env("SLURM_ARRAY_TASK_COUNT", "4")
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+    let shards: Vec<String> = (0..4)
+        .map(|k| {
+            dir.join(format!("out/shard-{k}.jsonl"))
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    let refs: Vec<&str> = std::iter::once("merge")
+        .chain(shards.iter().map(String::as_str))
+        .collect();
+    let merged = cli(&refs, None);
+    let whole = cli(
+        &["--scenario", scenario, "--runs", "6", "--seed", "3"],
+        None,
+    );
+    assert!(merged.status.success() && whole.status.success());
+    assert_eq!(text(&merged), text(&whole));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
