@@ -143,3 +143,25 @@ pub fn monte_carlo_merge(rows: JsValue, options: JsValue) -> Result<JsValue, JsE
     let report = study::merge(rows, o.rows).map_err(|e| js_error(&e))?;
     to_js(&report)
 }
+
+/// Most runs of one `benchMonteCarlo` call.
+const MAX_BENCH_RUNS: u32 = 100;
+
+/// Runs a study of `runs` runs (default 4) of the Monte Carlo benchmark's
+/// scenario (`workloads::monte_carlo_workload`: 2 s of `lwr4` at 1 kHz with
+/// noisy sensing) and returns its smallest clearance (a checksum).
+///
+/// # Errors
+/// `runs` not an integer in 1..=100.
+#[wasm_bindgen(js_name = benchMonteCarlo)]
+pub fn bench_monte_carlo(runs: JsValue) -> Result<f64, JsError> {
+    let runs = super::boundary::count_arg("runs", &runs, Some(4), MAX_BENCH_RUNS)?.max(1);
+    let s = crate::workloads::monte_carlo_workload().map_err(|e| scenario_error(&e))?;
+    let options = study::MonteCarloOptions {
+        runs: u64::from(runs),
+        seed: 1,
+        rows: false,
+    };
+    let report = study::monte_carlo(&s, &options).map_err(|e| scenario_error(&e))?;
+    Ok(report.min_clearance.min.unwrap_or(f64::NAN))
+}
