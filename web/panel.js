@@ -8,6 +8,7 @@
 import { h } from './dom.js';
 import { PALETTE, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
 import { downloadScenario } from './scenario-io.js';
+import { buildDependability, refreshDependability } from './dependability.js';
 
 export const PRESETS = ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm'];
 
@@ -129,6 +130,7 @@ export function buildPanel(pg) {
     field('on chattering', p.onChattering), field('lock time (s)', p.lockTime),
     h('div', { class: 'row' }, button('apply-sensing', 'Apply (restarts)', () => pg.applySensing())),
     p.worldMessage,
+    buildDependability(pg),
     h('h3', {}, 'Robot'),
     field('preset', p.preset), field('convention', p.convention),
     h('table', { class: 'dh', id: 'dh-table' }, h('caption', {}, 'DH table (m, rad)'),
@@ -233,6 +235,7 @@ export function refreshPanel(pg) {
   buildJointSliders(pg);
   refreshObstacleList(pg);
   refreshSelected(pg);
+  refreshDependability(pg);
 }
 
 function buildJointSliders(pg) {
