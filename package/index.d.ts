@@ -243,6 +243,8 @@ export interface Dependability {
   onChattering?: 'stop' | 'lock';
   lockTime?: number;
   maxDeceleration?: number;
+  /** Switch probability above which `switchRisk` is raised, in (0, 1]; default 0.05. */
+  switchRisk?: number;
 }
 
 export interface Scenario {
@@ -269,6 +271,19 @@ export interface TraceControlPoint {
   a: number;
   obstacle: string;
   distance: number;
+  /** First-order standard deviations from the sensing error (absent when sensed exactly). */
+  sigma?: PointSigma;
+}
+
+/** Standard deviations of a control point's quantities caused by the sensing error. */
+export interface PointSigma {
+  /** Of its clearance (m). */
+  distance: number;
+  /** Of the selected witness's DH values d', a' (m). */
+  d: number;
+  a: number;
+  /** Of each repulsion component (m/s, or N in torque mode). */
+  repulsion: Vec3;
 }
 
 export interface TraceSample {
@@ -276,6 +291,31 @@ export interface TraceSample {
   q: number[];
   minClearance: number | null;
   controlPoints: TraceControlPoint[];
+  /** Standard deviation of each joint's command from the sensing errors (absent when sensed exactly). */
+  commandSigma?: number[];
+}
+
+/** What `World.riskAt` returns: one cell of a risk map. */
+export interface Risk {
+  /** m; null for a robot without segments. */
+  clearance: number | null;
+  /** Probability that the closest segment, as sensed, differs from the ideal one. */
+  switchProbability: number;
+  segment?: number;
+  alternative?: number;
+}
+
+/** The sensing uncertainty of one obstacle in `WorldState`. */
+export interface ObstacleUncertainty {
+  obstacle: string;
+  /** Margin added to its distances (m). */
+  radius: number;
+  /** Standard deviation of its sensed position along any axis (m). */
+  sigma: number;
+  /** Probability that its closest segment, as sensed, differs from the ideal one. */
+  switchProbability: number;
+  segment?: number;
+  alternative?: number;
 }
 
 export type EventKind =
@@ -322,7 +362,10 @@ export interface WorldState {
   skeleton: { nodes: Vec3[]; segments: SkeletonSegment[] };
   obstacles: { id: string; shape: Shape; parts: Primitive[] }[];
   controlPoints: StateControlPoint[];
-  uncertainty: { obstacle: string; radius: number }[];
+  uncertainty: ObstacleUncertainty[];
+  /** The controller's command of the last step, before the protective layer and the limits. */
+  command: number[];
+  commandSigma?: number[];
   events: TraceEvent[];
   timeToCollision?: number;
   stopped: boolean;
@@ -364,6 +407,8 @@ export interface MonteCarloRow {
   contactWhileMoving: boolean;
   stopped: boolean;
   chattering: boolean;
+  /** The monitor raised transitionTooSlow. */
+  transitionTooSlow: boolean;
   switches: number;
   switchesPerSecond: number;
   /** Smallest time to collision − remaining transition time (s); null when no transition met an approach. */
@@ -438,6 +483,8 @@ export class World {
   setObstacleShape(id: string, shape: Shape): void;
   /** Clearance (m) between the arm now and `shape`, which is not added (negative: overlap). */
   clearanceTo(shape: Shape): number;
+  /** Clearance and switch probability of a figure placed with the arm where it is; `sensing` defaults to the scenario's default. */
+  riskAt(shape: Shape, sensing?: SensingError): Risk;
   moveObstacle(id: string, position: Vec3): void;
   setController(partial: Controller): void;
   pick(origin: Vec3, direction: Vec3): PickResult | null;

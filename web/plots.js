@@ -77,23 +77,26 @@ export class TimePlot {
   /**
    * Adds the value of series `name` at time `t` (s); non-finite values break
    * the line; `far` draws the point's segment dashed (a value standing for
-   * "at least this much").
+   * "at least this much"); `sigma` draws a band of ±sigma around the line
+   * (a propagated standard deviation).
    */
-  push(name, t, value, { far = false } = {}) {
+  push(name, t, value, { far = false, sigma = 0 } = {}) {
     let s = this.series.get(name);
     if (!s) {
-      s = { t: [], v: [], far: [], color: COLOURS[this.series.size % COLOURS.length], hidden: false };
+      s = { t: [], v: [], far: [], sd: [], color: COLOURS[this.series.size % COLOURS.length], hidden: false };
       s.key = this.legendKey(name, s);
       this.series.set(name, s);
     }
     s.t.push(t);
     s.v.push(value);
     s.far.push(far);
+    s.sd.push(Number.isFinite(sigma) && sigma > 0 ? sigma : 0);
     const cut = s.t.findIndex((x) => x >= t - KEEP);
     if (cut > 1024) {
       s.t.splice(0, cut);
       s.v.splice(0, cut);
       s.far.splice(0, cut);
+      s.sd.splice(0, cut);
     }
     this.now = Math.max(this.now, t);
   }
@@ -229,7 +232,31 @@ export class TimePlot {
     ctx.fillText(end, W - box.right - ctx.measureText(end).width, H - 4);
   }
 
+  /** The ±σ band of a series, where it has one (translucent, under its line). */
+  band(ctx, s, t0, t1, x, y) {
+    const run = [];
+    const flush = () => {
+      if (run.length > 1) {
+        ctx.beginPath();
+        run.forEach((i, k) => (k ? ctx.lineTo : ctx.moveTo).call(ctx, x(s.t[i]), y(s.v[i] + s.sd[i])));
+        for (let k = run.length - 1; k >= 0; k--) ctx.lineTo(x(s.t[run[k]]), y(s.v[run[k]] - s.sd[run[k]]));
+        ctx.closePath();
+        ctx.fill();
+      }
+      run.length = 0;
+    };
+    ctx.fillStyle = s.color;
+    ctx.globalAlpha = 0.2;
+    for (let i = 0; i < s.t.length; i++) {
+      if (s.t[i] >= t0 && s.t[i] <= t1 && Number.isFinite(s.v[i]) && s.sd[i] > 0) run.push(i);
+      else flush();
+    }
+    flush();
+    ctx.globalAlpha = 1;
+  }
+
   line(ctx, s, t0, t1, x, y) {
+    this.band(ctx, s, t0, t1, x, y);
     ctx.strokeStyle = s.color;
     ctx.lineWidth = 1.75;
     let pen = false;

@@ -22,7 +22,7 @@ export const readoutMethods = {
     for (const cp of s.controlPoints) {
       const k = (seen.get(cp.obstacle) ?? 0) + 1;
       seen.set(cp.obstacle, k);
-      this.plots.clearance.push(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, t, cp.distance);
+      this.plots.clearance.push(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, t, cp.distance, { sigma: cp.sigma?.distance });
     }
     const cp = s.controlPoints.find((c) => c.transitioning) ?? s.controlPoints[0];
     const rows = robotRows(this.robotSpec ?? { joints: [] }).filter((r) => r.chain === 'main');
@@ -30,8 +30,10 @@ export const readoutMethods = {
     rows.forEach(({ joint: j }, i) => {
       const row = i + 1;
       const value = (full, cut) => (!cp ? NaN : row < cp.link ? full : row === cp.link ? cut : 0);
-      this.plots.dh.push(`a${row}`, t, value(j.a, cp?.a));
-      if (anyD) this.plots.dh.push(`d${row}`, t, value(j.d, cp?.d));
+      // The control point's own row carries the propagated σ of its witness as a band.
+      const sd = (x) => ({ sigma: cp && row === cp.link ? x : 0 });
+      this.plots.dh.push(`a${row}`, t, value(j.a, cp?.a), sd(cp?.sigma?.a));
+      if (anyD) this.plots.dh.push(`d${row}`, t, value(j.d, cp?.d), sd(cp?.sigma?.d));
     });
     Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
   },
@@ -77,8 +79,12 @@ function hudLines(s, running, influence) {
     `min clearance ${Number.isFinite(s.minClearance) ? ms(s.minClearance) : `> ${ms(influence)} (influence)`}`,
     `time to collision ${ttcText}`,
   ];
+  for (const u of s.uncertainty ?? []) {
+    if (u.switchProbability > 0) lines.push(`${u.obstacle}: switch p ${u.switchProbability.toFixed(2)}  σ ${ms(u.sigma)}`);
+  }
   s.controlPoints.slice(0, 3).forEach((cp, i) => {
     let text = `cp${i + 1} link ${cp.link}  d' ${cp.d.toFixed(3)}  a' ${cp.a.toFixed(3)} m`;
+    if (cp.sigma) text += `  ±${ms(Math.max(cp.sigma.d, cp.sigma.a))}`;
     if (cp.transitioning && cp.target) text += `\n    → link ${cp.target.link} (${cp.target.d.toFixed(3)}, ${cp.target.a.toFixed(3)})`;
     lines.push(text);
   });

@@ -42,7 +42,7 @@ fn fnv(text: &str) -> u64 {
 
 /// The pinned hash of the JSON report of a small study: the same natively
 /// (on any number of threads) and in wasm (this test runs in both).
-const STUDY_HASH: u64 = 0xc76f_10e0_7f00_7774;
+const STUDY_HASH: u64 = 0xb09b_7171_3e8d_c4dc;
 
 #[test]
 fn a_small_study_is_bit_identical_natively_and_in_wasm() {
@@ -175,17 +175,19 @@ fn slow_transition() -> Scenario {
 }
 
 #[test]
-fn transition_slack_is_negative_exactly_when_the_monitor_finds_a_transition_too_slow() {
+fn transition_slack_bounds_the_monitors_margin_and_too_slow_follows_its_events() {
     let s = slow_transition();
     let mut w = World::new(s.clone()).unwrap();
-    let (mut slow_steps, mut events) = (0, 0);
-    let mut was_slow = false;
+    let mut events = 0;
+    let mut worst = f64::INFINITY;
     for _ in 0..1000 {
         let before = w.event_count();
         w.step(s.dt);
         let fresh = &w.events()[w.events().len() - (w.event_count() - before)..];
         let slack = w.probe().transition_slack;
-        let slow = slack.is_some_and(|x| x < 0.0);
+        if let Some(x) = slack {
+            worst = worst.min(x);
+        }
         for e in fresh {
             if let EventKind::TransitionTooSlow {
                 time_to_collision,
@@ -193,31 +195,25 @@ fn transition_slack_is_negative_exactly_when_the_monitor_finds_a_transition_too_
                 ..
             } = e.kind
             {
+                // The step's smallest time to collision and longest
+                // remaining transition bound this point's margin.
                 events += 1;
-                assert!(slow, "event at {} but slack {slack:?}", e.t);
-                assert!(slack.unwrap() <= time_to_collision - remaining + 1e-12);
+                let x = slack.expect("a transition under way");
+                assert!(x <= time_to_collision - remaining + 1e-12, "{x} at {}", e.t);
             }
         }
-        // a new slow episode raises an event
-        if slow && !was_slow {
-            assert!(
-                fresh
-                    .iter()
-                    .any(|e| matches!(e.kind, EventKind::TransitionTooSlow { .. })),
-                "slack {slack:?} at {} without an event",
-                w.time()
-            );
-        }
-        was_slow = slow;
-        slow_steps += usize::from(slow);
     }
-    assert!(
-        events >= 1 && slow_steps > 10,
-        "{events} events, {slow_steps} steps"
-    );
+    assert!(events >= 1, "the scenario raises transitionTooSlow");
     let r = study::monte_carlo(&s, &options(1, 0)).unwrap();
     assert_eq!(r.transition_too_slow.count, 1);
-    assert!(r.worst_transition_slack.unwrap() < 0.0);
+    assert_eq!(r.worst_transition_slack, Some(worst));
+    assert!(worst < 0.0, "{worst}");
+    // An exactly sensed static obstacle never makes a transition too slow.
+    let quiet = study::monte_carlo(
+        &scenario::example("planar-transition").unwrap(),
+        &options(2, 0),
+    );
+    assert_eq!(quiet.unwrap().transition_too_slow.count, 0);
 }
 
 #[cfg(all(feature = "parallel", not(target_arch = "wasm32")))]

@@ -196,3 +196,42 @@ test('benchControlStep runs 1 kHz steps of lwr4 among obstacles', () => {
   // Loose: the playground needs 16 steps in a 16.7 ms frame.
   assert.ok(ns < 1e6, `${ns} ns per step`);
 });
+
+test('a noisy obstacle reports propagated deviations, a command and a switch probability', () => {
+  const world = new sa.World(sa.exampleScenario('chattering'));
+  world.advance(0.001, 5);
+  const s = world.state();
+  assert.equal(s.command.length, s.q.length);
+  assert.equal(s.commandSigma.length, s.q.length);
+  assert.ok(s.commandSigma.every((x) => Number.isFinite(x) && x >= 0));
+  const p = s.controlPoints.find((c) => c.obstacle === 'blob');
+  assert.ok(p.sigma.distance > 0 && p.sigma.repulsion.length === 3, JSON.stringify(p.sigma));
+  const u = s.uncertainty[0];
+  assert.equal(u.obstacle, 'blob');
+  assert.ok(u.switchProbability >= 0 && u.switchProbability <= 1);
+  // bound 0.01: σ = 0.01 / √5 along any axis.
+  assert.ok(Math.abs(u.sigma - 0.01 / Math.sqrt(5)) < 1e-12, String(u.sigma));
+  world.free();
+});
+
+test('riskAt gives the clearance and switch probability of a figure without adding it', () => {
+  const s = sa.exampleScenario('planar-transition');
+  s.q0 = [0, Math.PI / 2, 0];
+  const world = new sa.World(s);
+  const before = JSON.stringify(world.state());
+  // Inside the right-angle elbow, as far from link 1's axis as from link 2's
+  // (their radii differ by 1 cm): near the boundary of the two segments.
+  const fig = { type: 'point', p: [0.25, 0.15, 0] };
+  const even = world.riskAt(fig, { sigma: 0.01 });
+  assert.ok(even.switchProbability > 0.2 && even.switchProbability < 0.8, JSON.stringify(even));
+  assert.deepEqual([even.segment, even.alternative].sort(), [0, 1]);
+  const exact = world.riskAt(fig, {});
+  assert.equal(exact.switchProbability, 0);
+  assert.ok(Math.abs(exact.clearance - world.clearanceTo(fig)) < 1e-15);
+  const far = world.riskAt({ type: 'point', p: [0.25, 0.05, 0] }, { sigma: 0.01 });
+  assert.ok(far.switchProbability < 0.01, JSON.stringify(far));
+  assert.throws(() => world.riskAt(fig, { sigma: -1 }), /^Error: sensing\.sigma/);
+  assert.throws(() => world.riskAt({ type: 'point' }, {}), /shape/);
+  assert.equal(JSON.stringify(world.state()), before);
+  world.free();
+});

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::dependability::Event;
+use crate::dependability::{Event, PointSigma};
 
 /// One control point in a trace sample.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -21,6 +21,10 @@ pub struct TracePoint {
     pub obstacle: String,
     /// Measured clearance (m).
     pub distance: f64,
+    /// First-order standard deviations from the sensing error (absent when
+    /// the obstacle is sensed exactly).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma: Option<PointSigma>,
 }
 
 /// One sample of a trace.
@@ -36,6 +40,10 @@ pub struct Sample {
     pub min_clearance: Option<f64>,
     /// Active control points.
     pub control_points: Vec<TracePoint>,
+    /// Standard deviation of each joint's command from the sensing errors
+    /// (absent when every obstacle is sensed exactly).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub command_sigma: Option<Vec<f64>>,
 }
 
 /// What [`crate::world::simulate`] returns.

@@ -16,8 +16,9 @@
 //!   scenario's duration and keeps a [`RunRow`]: the smallest true
 //!   clearance over every control step (not only the trace's samples),
 //!   whether the clearance reached 0 while a joint moved (faster than
-//!   [`MOVING_SPEED`]), whether a stop and chattering happened, the number
-//!   of segment switches, and the smallest transition slack. No trace is
+//!   [`MOVING_SPEED`]), whether a stop, chattering and a transition too
+//!   slow happened (the monitor's events), the number of segment switches,
+//!   and the smallest transition slack. No trace is
 //!   built.
 //! * **Aggregation** ([`MonteCarloReport::from_rows`]) runs over the rows
 //!   in run order: sorting for the quantiles, sums in a fixed order. The

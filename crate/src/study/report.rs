@@ -104,13 +104,13 @@ pub struct MonteCarloReport {
     pub stop: Probability,
     /// Runs in which a control point chattered.
     pub chattering: Probability,
-    /// Runs in which a transition was too slow (negative slack).
+    /// Runs in which the monitor found a transition too slow.
     pub transition_too_slow: Probability,
     /// Segment switches per second.
     pub switches_per_second: SwitchRate,
     /// Smallest `time to collision − remaining transition time` over
-    /// every run (s); `None` when no run had a travelling control point
-    /// with something closing in.
+    /// every run (s); `None` when no run had a transition under way with
+    /// something closing in.
     pub worst_transition_slack: Option<f64>,
     /// The runs themselves, in order (when asked for).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -176,7 +176,7 @@ impl MonteCarloReport {
             contact_while_moving: count(|r| r.contact_while_moving),
             stop: count(|r| r.stopped),
             chattering: count(|r| r.chattering),
-            transition_too_slow: count(|r| r.transition_slack.is_some_and(|s| s < 0.0)),
+            transition_too_slow: count(|r| r.transition_too_slow),
             switches_per_second: SwitchRate {
                 mean: if n > 0 { sum / n as f64 } else { 0.0 },
                 max: rates.fold(0.0, f64::max),

@@ -35,15 +35,20 @@ pub struct RunRow {
     pub stopped: bool,
     /// Whether a control point chattered.
     pub chattering: bool,
+    /// Whether the monitor found a transition too slow
+    /// (`transitionTooSlow`: the time to collision shorter than the
+    /// remaining transition time, plus the braking time when the obstacle
+    /// closes in).
+    pub transition_too_slow: bool,
     /// Number of segment switches of every control point.
     pub switches: u64,
     /// Segment switches per second of simulated time (0 for a run of no
     /// duration).
     pub switches_per_second: f64,
     /// Smallest `time to collision − remaining transition time` (s) over
-    /// every step and every travelling control point that something
-    /// closes in on; negative when a transition was too slow. `None` when
-    /// no such point.
+    /// the steps with a transition under way and something closing in
+    /// (see [`crate::world::StepProbe::transition_slack`]); `None` when
+    /// there was no such step.
     pub transition_slack: Option<f64>,
 }
 
@@ -77,6 +82,7 @@ pub fn run_one(scenario: &Scenario, seed: u64, run: u64) -> Result<RunRow, Scena
         contact_while_moving: false,
         stopped: false,
         chattering: false,
+        transition_too_slow: false,
         switches: 0,
         switches_per_second: 0.0,
         transition_slack: None,
@@ -106,6 +112,7 @@ pub fn run_one(scenario: &Scenario, seed: u64, run: u64) -> Result<RunRow, Scena
                 EventKind::SegmentSwitch { .. } => row.switches += 1,
                 EventKind::Stop { .. } => row.stopped = true,
                 EventKind::Chattering { .. } => row.chattering = true,
+                EventKind::TransitionTooSlow { .. } => row.transition_too_slow = true,
                 _ => {}
             }
         }

@@ -103,8 +103,8 @@ pub fn monte_carlo(scenario: JsValue, options: JsValue) -> Result<JsValue, JsErr
 
 /// Runs `count` runs of the study of `scenario` seeded with `seed`, from
 /// run `from` on, and returns their rows `[{ run, seed, minClearance,
-/// contactWhileMoving, stopped, chattering, switches, switchesPerSecond,
-/// transitionSlack }]`: a study in blocks (for a progress bar), merged with
+/// contactWhileMoving, stopped, chattering, transitionTooSlow, switches,
+/// switchesPerSecond, transitionSlack }]`: a study in blocks (for a progress bar), merged with
 /// `monteCarloMerge`.
 ///
 /// # Errors

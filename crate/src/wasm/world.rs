@@ -7,6 +7,7 @@ use wasm_bindgen::prelude::*;
 
 use super::boundary::{count_arg, guard_class, number_arg, string_arg};
 use super::convert::{f64_vec, js_error, object_from_js, to_js};
+use crate::dependability::SensingSpec;
 use crate::error::FieldError;
 use crate::scenario::{self, ObstacleSpec, Scenario, ScenarioError, ShapeSpec};
 use crate::world::{self, World};
@@ -156,6 +157,7 @@ const WORLD_ARGS: &[(&str, &[&str])] = &[
     ("removeObstacle", &["id"]),
     ("setObstacleShape", &["id", "shape"]),
     ("clearanceTo", &["shape"]),
+    ("riskAt", &["shape", "sensing"]),
     ("moveObstacle", &["id", "position"]),
     ("setController", &["controller"]),
     ("pick", &["origin", "direction"]),
@@ -316,6 +318,29 @@ impl WorldHandle {
         self.inner
             .clearance_to(&shape)
             .map_err(|e| scenario_error(&e))
+    }
+
+    /// What an obstacle of figure `shape` would face with the arm where it
+    /// is: `{ clearance, switchProbability, segment?, alternative? }`, the
+    /// probability that its closest segment, as sensed with `sensing`
+    /// (default: the scenario's default sensing), differs from the ideal
+    /// one. One cell of a risk map.
+    ///
+    /// # Errors
+    /// A bad figure or sensing spec.
+    #[wasm_bindgen(js_name = riskAt)]
+    pub fn risk_at(&self, shape: JsValue, sensing: JsValue) -> Result<JsValue, JsError> {
+        let shape: ShapeSpec = object_from_js("shape", shape)?;
+        let sensing: SensingSpec = if sensing.is_undefined() {
+            self.inner.scenario().sensing.default.unwrap_or_default()
+        } else {
+            object_from_js("sensing", sensing)?
+        };
+        let risk = self
+            .inner
+            .risk_at(&shape, &sensing)
+            .map_err(|e| scenario_error(&e))?;
+        to_js(&risk)
     }
 
     /// Moves obstacle `id` so that its reference point (centre, middle,

@@ -194,26 +194,8 @@ impl World {
     /// # Errors
     /// An invalid figure.
     pub fn clearance_to(&self, shape: &ShapeSpec) -> Result<f64, ScenarioError> {
-        let parts = primitives(shape).map_err(|e| e.within("shape"))?;
-        let scene = crate::distance::Scene::new(
-            parts
-                .into_iter()
-                .enumerate()
-                .map(|(k, p)| crate::distance::Obstacle {
-                    id: k as u32,
-                    shape: p,
-                })
-                .collect(),
-        );
-        let options = crate::distance::QueryOptions {
-            influence_distance: f64::MAX,
-            self_collision: false,
-            broad_phase: crate::distance::BroadPhase::BruteForce,
-        };
-        let pairs = scene
-            .query(&self.skeleton, &options, |_, _| true)
-            .map_err(|e| FieldError::new("shape", e.to_string()))?;
-        Ok(pairs
+        Ok(self
+            .pairs_with(shape)?
             .iter()
             .map(|p| p.distance)
             .fold(f64::INFINITY, f64::min))

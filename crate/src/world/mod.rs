@@ -33,7 +33,7 @@ use glam::DVec3;
 use crate::avoidance::limits::JointMotion;
 use crate::avoidance::protect::{Guard, GuardPair};
 use crate::avoidance::selection::Key;
-use crate::avoidance::{ControllerConfig, TaskReference};
+use crate::avoidance::{ActivePoint, ControllerConfig, TaskReference};
 use crate::dependability::{Event, EventKind};
 use crate::distance::{Primitive, PrimitiveSpec, Scene};
 use crate::error::FieldError;
@@ -47,6 +47,7 @@ mod probe;
 mod state;
 mod step;
 mod track;
+mod uncertainty;
 
 use obstacles::ObstacleState;
 pub use probe::StepProbe;
@@ -54,6 +55,7 @@ pub use state::{
     ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonState, Uncertainty, WorldState,
 };
 use track::Tracker;
+pub use uncertainty::Risk;
 
 /// Events a live [`World`] keeps (the oldest half is dropped beyond this;
 /// [`simulate`] keeps every event).
@@ -104,7 +106,17 @@ pub struct World {
     points: Vec<ControlPointState>,
     min_clearance: Option<f64>,
     time_to_collision: Option<f64>,
+    /// Per obstacle, the factor on the arm's allowed approach speed when a
+    /// transition plus braking would not end before contact (1: none).
+    slowdown: Vec<f64>,
+    /// The last step's active points and, for the control points that
+    /// answer an obstacle sensed with error, what their propagation needs
+    /// (computed when the state is read: [`World::propagation`]).
+    active: Vec<ActivePoint>,
+    sigma_inputs: Vec<uncertainty::SigmaInput>,
     step_t: f64,
+    step_qdot: Vec<f64>,
+    step_dt: f64,
     step_q: Vec<f64>,
 }
 
@@ -185,7 +197,12 @@ impl World {
             points: Vec::new(),
             min_clearance: None,
             time_to_collision: None,
+            slowdown: Vec::new(),
+            active: Vec::new(),
+            sigma_inputs: Vec::new(),
             step_t: 0.0,
+            step_qdot: Vec::new(),
+            step_dt: 0.0,
             step_q: Vec::new(),
         };
         w.rebuild_scene(0.0, false);

@@ -5,7 +5,7 @@
 use glam::DVec3;
 
 use super::World;
-use crate::dependability::SensorModel;
+use crate::dependability::{Covariance, SensorModel};
 use crate::distance::{Obstacle, Primitive, Scene, distance};
 use crate::error::FieldError;
 use crate::scenario::{ObstacleSpec, Scenario, primitives, reference_point};
@@ -19,6 +19,20 @@ pub(super) struct ObstacleState {
     /// The margin of the sensing error at this step (m): the sensor's own
     /// ([`SensorModel::margin`]) plus `latency ×` the obstacle's speed.
     pub(super) margin: f64,
+    /// Covariance of the sensed position ([`SensorModel::covariance`]).
+    pub(super) covariance: Covariance,
+    /// The monitor's last switch probability of this obstacle's closest
+    /// segment, with that segment and the likeliest other one.
+    pub(super) switch: SwitchOdds,
+}
+
+/// The probability that the closest segment of an obstacle, as sensed,
+/// differs from the ideal one ([`crate::dependability::switch_probability`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct SwitchOdds {
+    pub(super) probability: f64,
+    pub(super) segment: Option<usize>,
+    pub(super) alternative: Option<usize>,
 }
 
 impl ObstacleState {
@@ -35,6 +49,8 @@ impl ObstacleState {
             reference: reference_point(&spec.shape),
             parts,
             margin: sensor.margin(),
+            covariance: sensor.covariance(),
+            switch: SwitchOdds::default(),
             sensor,
             spec,
         })

@@ -4,8 +4,6 @@
 //! collision.
 
 use super::World;
-use crate::avoidance::selection::Key;
-use crate::dependability::time_to_collision;
 
 /// A few numbers of the last step (see [`World::probe`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,11 +13,11 @@ pub struct StepProbe {
     pub min_clearance: Option<f64>,
     /// Largest joint speed after the step (rad/s or m/s).
     pub joint_speed: f64,
-    /// Smallest `time to collision − remaining transition time` (s) over
-    /// the control points travelling along the skeleton with something
-    /// closing in on them; negative exactly when the monitor finds the
-    /// transition too slow (`transitionTooSlow`). `None` when no such
-    /// point.
+    /// The step's smallest time to collision minus the longest remaining
+    /// transition time (s), while a transition is under way and something
+    /// closes in; `None` otherwise. Negative: a transition cannot end
+    /// before the collision (the monitor's `transitionTooSlow` also asks
+    /// for the braking time when the obstacle itself closes in).
     pub transition_slack: Option<f64>,
 }
 
@@ -36,38 +34,18 @@ impl World {
         }
     }
 
-    /// The time to collision of each travelling control point, as the
-    /// monitor computed it in the last step (its filtered closing speed
-    /// and its clearance less its obstacle's margin), minus the time its
-    /// transition still needs. The active points of the last step are the
-    /// trackers in key order (a pinned key with no pinned point skipped).
+    /// The step's smallest time to collision (as the monitor computed it)
+    /// minus the longest time a transition under way still needs. With
+    /// one active control point this is that point's own margin; with
+    /// several it is a lower bound of every travelling point's margin
+    /// (the smallest time to collision may belong to another point).
     fn transition_slack(&self) -> Option<f64> {
-        let pinned = &self.scenario.controller.pinned;
-        let trackers = self
+        let remaining = self
             .trackers
-            .iter()
-            .filter(|(k, _)| !matches!(k, Key::Pinned(p) if pinned.get(*p).is_none()));
-        let mut worst: Option<f64> = None;
-        for ((key, tr), point) in trackers.zip(&self.points) {
-            let remaining = tr.mover.remaining();
-            let Some(closing) = tr.closing else { continue };
-            if remaining <= 0.0 {
-                continue;
-            }
-            let owner = match key {
-                Key::Pinned(_) => self
-                    .obstacles
-                    .iter()
-                    .position(|o| o.spec.id == point.obstacle),
-                _ => tr.owner,
-            };
-            let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
-            let ttc = time_to_collision(point.distance - margin, closing);
-            if ttc.is_finite() {
-                let slack = ttc - remaining;
-                worst = Some(worst.map_or(slack, |w| w.min(slack)));
-            }
-        }
-        worst
+            .values()
+            .map(|tr| tr.mover.remaining())
+            .fold(0.0_f64, f64::max);
+        let ttc = self.time_to_collision?;
+        (remaining > 0.0).then_some(ttc - remaining)
     }
 }

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use super::World;
 use crate::control_point::DhPoint;
-use crate::dependability::Event;
+use crate::dependability::{Event, PointSigma};
 use crate::distance::PrimitiveSpec;
 use crate::scenario::{Sample, ShapeSpec, TracePoint, translated};
 
@@ -36,6 +36,11 @@ pub struct ControlPointState {
     /// Where it goes while transitioning.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub target: Option<DhPoint>,
+    /// First-order standard deviations from the sensing error of the
+    /// obstacle it answers (absent when that obstacle is sensed exactly;
+    /// [`crate::dependability::propagate`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma: Option<PointSigma>,
 }
 
 /// A skeleton segment in [`WorldState`].
@@ -71,13 +76,26 @@ pub struct ObstacleStateOut {
     pub parts: Vec<PrimitiveSpec>,
 }
 
-/// The inflated margin of one obstacle.
+/// The sensing uncertainty of one obstacle and what it does to the
+/// choice of the closest segment.
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
 pub struct Uncertainty {
     /// Obstacle id.
     pub obstacle: String,
     /// Distance uncertainty added to the safety margin (m).
     pub radius: f64,
+    /// Standard deviation of the sensed position along any axis (m).
+    pub sigma: f64,
+    /// Probability that the closest segment, as sensed, differs from the
+    /// ideal one (0 when the obstacle is out of reach).
+    pub switch_probability: f64,
+    /// The closest segment (when within reach).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub segment: Option<usize>,
+    /// The likeliest other segment (when there is one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alternative: Option<usize>,
 }
 
 /// Everything a viewer needs after a step (serde, camelCase).
@@ -101,8 +119,16 @@ pub struct WorldState {
     pub obstacles: Vec<ObstacleStateOut>,
     /// Active control points (of the last step).
     pub control_points: Vec<ControlPointState>,
-    /// Inflated margins of obstacles sensed with error.
+    /// Obstacles sensed with error: margin, spread, switch probability.
     pub uncertainty: Vec<Uncertainty>,
+    /// The controller's joint command of the last step, before the
+    /// protective layer and the joint limits (rad/s or m/s; N·m or N in
+    /// torque mode).
+    pub command: Vec<f64>,
+    /// Standard deviation of each joint's command from the sensing errors
+    /// (absent when every obstacle is sensed exactly).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub command_sigma: Option<Vec<f64>>,
     /// Events (all so far, or since a cursor).
     pub events: Vec<Event>,
     /// Smallest time to collision of the last step (s), if any point closes in.
@@ -136,6 +162,11 @@ impl World {
     #[must_use]
     pub fn state_since(&self, cursor: usize) -> WorldState {
         let sk = &self.skeleton;
+        let (sigmas, command_sigma) = self.propagation();
+        let mut control_points = self.points.clone();
+        for (c, s) in control_points.iter_mut().zip(sigmas) {
+            c.sigma = s;
+        }
         let obstacles = self
             .obstacles
             .iter()
@@ -172,7 +203,7 @@ impl World {
                     .collect(),
             },
             obstacles,
-            control_points: self.points.clone(),
+            control_points,
             uncertainty: self
                 .obstacles
                 .iter()
@@ -180,8 +211,14 @@ impl World {
                 .map(|o| Uncertainty {
                     obstacle: o.spec.id.clone(),
                     radius: o.margin,
+                    sigma: o.covariance.variance_along(glam::DVec3::X).sqrt(),
+                    switch_probability: o.switch.probability,
+                    segment: o.switch.segment,
+                    alternative: o.switch.alternative,
                 })
                 .collect(),
+            command: self.request.clone(),
+            command_sigma,
             events: self
                 .events
                 .get(cursor.saturating_sub(self.events_dropped)..)
@@ -196,6 +233,7 @@ impl World {
     /// last step acted on.
     #[must_use]
     pub fn sample(&self) -> Sample {
+        let (sigmas, command_sigma) = self.propagation();
         Sample {
             t: self.step_t,
             q: self.step_q.clone(),
@@ -203,15 +241,18 @@ impl World {
             control_points: self
                 .points
                 .iter()
-                .map(|c| TracePoint {
+                .zip(sigmas)
+                .map(|(c, sigma)| TracePoint {
                     position: c.position,
                     link: c.link,
                     d: c.d,
                     a: c.a,
                     obstacle: c.obstacle.clone(),
                     distance: c.distance,
+                    sigma,
                 })
                 .collect(),
+            command_sigma,
         }
     }
 }

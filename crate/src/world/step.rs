@@ -14,9 +14,10 @@ use crate::distance::{PairDistance, QueryOptions, Target};
 use crate::error::FieldError;
 use crate::kinematics::ik::PointMotion;
 use crate::skeleton::Skeleton;
-use crate::transition::dh_motion;
+use crate::transition::{SkeletonPoint, dh_motion};
 
 use super::state::ControlPointState;
+use super::uncertainty::SigmaInput;
 
 /// Factor on the braking time when deciding that an obstacle outruns the
 /// arm's retreat (see [`World::protect`]).
@@ -67,8 +68,13 @@ impl World {
         self.monitor_switch_risk(&pairs, &selected, &cfg);
         self.track(&selected, &pairs, dt, &cfg)?;
         let active = self.active_points(&cfg, dt)?;
-        // 6. control
+        // 6. control (what the propagation of the sensing errors needs is
+        // kept, and computed when the state is read)
+        self.step_qdot.clone_from(&self.motion.qdot);
+        self.step_q.clone_from(&self.q);
+        self.step_dt = dt;
         self.control(&cfg, &active, dt)?;
+        self.active = active;
         // 7. protect
         let all_hold = self.protect(&cfg, &pairs, dt)?;
         self.maybe_resume(all_hold);
@@ -129,10 +135,6 @@ impl World {
             let n = if len > 0.0 { v / len } else { DVec3::Z };
             return Ok((len - radius - r2, n, c - n * r2, None));
         }
-        let owner = match key {
-            Key::Pinned(_) => self.closest_obstacle(position),
-            _ => owner,
-        };
         Ok(match owner {
             Some(o) => {
                 let (d, n, w) = self.point_distance(o, position)?;
@@ -150,8 +152,12 @@ impl World {
         dt: f64,
     ) -> Result<Vec<ActivePoint>, FieldError> {
         let mut active = Vec::new();
+        let mut sigma_inputs = Vec::new();
         let mut states = Vec::new();
         let mut min_ttc = f64::INFINITY;
+        let braking = braking_time(&self.robot, &self.motion, dt);
+        self.slowdown.clear();
+        self.slowdown.resize(self.obstacles.len(), 1.0);
         let keys: Vec<Key> = self.trackers.keys().cloned().collect();
         for key in keys {
             let Some(tr) = self.trackers.get(&key) else {
@@ -168,8 +174,13 @@ impl World {
             };
             let (prev, remaining, owner) = (tr.closing, tr.mover.remaining(), tr.owner);
             let target = tr.mover.transition().map(|x| x.target());
+            let selected_at = (!matches!(key, Key::Pinned(_))).then(|| tr.mover.selected());
             let was_slow = tr.too_slow;
             let position = dh.position(&self.robot, &self.frames);
+            let owner = match key {
+                Key::Pinned(k) => self.pinned_owner(&key, k, position),
+                _ => owner,
+            };
             let (dist, normal, witness, owner) = self.locate(&key, owner, position, radius)?;
             let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
             let effective = dist - margin;
@@ -189,14 +200,36 @@ impl World {
                 (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
                 _ => self.name(&key),
             };
-            let closing = self.closing_speed(&key, &dh, owner, normal, dt);
+            let at = selected_at.filter(|_| remaining > 0.0);
+            let (ttc_dh, ttc_normal, ttc_clearance) =
+                self.ttc_point(&key, at, owner, (dh, normal, effective))?;
+            let closing = self.closing_speed(&key, &ttc_dh, owner, ttc_normal, dt);
             let closing = match (prev, closing) {
                 (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
                 (_, c) => c,
             };
-            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(effective, c));
+            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(ttc_clearance, c));
             min_ttc = min_ttc.min(ttc);
-            let too_slow = remaining > 0.0 && ttc < remaining;
+            // The transition must end before contact and, when the obstacle
+            // itself closes in, the arm must also be able to brake before it
+            // arrives: otherwise the protective layer slows the approach.
+            // With the guards on, the arm's own approach to a still obstacle
+            // cannot end in contact (a velocity damper slows it as the
+            // clearance shrinks), so only an obstacle that closes in can
+            // make a transition too slow.
+            let coming = owner
+                .is_some_and(|o| -ttc_normal.dot(self.obstacles[o].velocity(self.t, dt)) > 0.0);
+            let guarded = cfg.protective.enabled;
+            let needed = remaining + if coming { braking } else { 0.0 };
+            let too_slow = remaining > 0.0 && ttc < needed && (coming || !guarded);
+            let slowdown = if too_slow {
+                (ttc / needed).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            if let Some(o) = owner.filter(|_| too_slow) {
+                self.slowdown[o] = self.slowdown[o].min(slowdown);
+            }
             if let Some(trm) = self.trackers.get_mut(&key) {
                 trm.closing = closing;
                 trm.too_slow = too_slow;
@@ -206,12 +239,25 @@ impl World {
                     obstacle: name.clone(),
                     time_to_collision: ttc,
                     remaining,
+                    braking: needed - remaining,
+                    slowdown,
                 });
             }
             let target = target.and_then(|x| {
                 DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
                     .ok()
             });
+            if let Some(owner) = owner.filter(|&o| !self.obstacles[o].covariance.is_zero()) {
+                sigma_inputs.push(SigmaInput {
+                    point: states.len(),
+                    active: dist.is_finite().then_some(active.len()),
+                    owner,
+                    position,
+                    radius,
+                    witness: selected_at,
+                    gain,
+                });
+            }
             if dist.is_finite() {
                 active.push(ap);
             }
@@ -226,11 +272,60 @@ impl World {
                 repulsion: (ap.repulsion(cfg) * gain).to_array(),
                 transitioning: target.is_some(),
                 target,
+                sigma: None,
             });
         }
         self.points = states;
+        self.sigma_inputs = sigma_inputs;
         self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
         Ok(active)
+    }
+
+    /// Where the time to collision is measured: at the true closest point,
+    /// the selected witness `at` while the control point still travels to
+    /// it (the obstacle reaches the arm there, not where the control point
+    /// is), else at the control point itself, `here` = (DH point, normal,
+    /// clearance with the margin subtracted).
+    fn ttc_point(
+        &self,
+        key: &Key,
+        at: Option<SkeletonPoint>,
+        owner: Option<usize>,
+        here: (DhPoint, DVec3, f64),
+    ) -> Result<(DhPoint, DVec3, f64), FieldError> {
+        let Some(at) = at else { return Ok(here) };
+        let dh =
+            DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, at.segment, at.t)?;
+        let radius = Skeleton::radius_at(&self.skeleton.segments[at.segment], at.t);
+        let position = dh.position(&self.robot, &self.frames);
+        let (d, normal, _, owner) = self.locate(key, owner, position, radius)?;
+        let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
+        Ok((dh, normal, d - margin))
+    }
+
+    /// The obstacle pinned point `k` answers: the closest one, unless a
+    /// `lock` holds another; a change is a switch for the chattering
+    /// monitor.
+    fn pinned_owner(&mut self, key: &Key, k: usize, position: DVec3) -> Option<usize> {
+        let closest = self.closest_obstacle(position);
+        let mut tracker = self.trackers.remove(key)?;
+        let owner = match tracker.lock {
+            Some((held, until)) if self.t < until && held < self.obstacles.len() => Some(held),
+            Some(_) => {
+                tracker.lock = None;
+                let obstacle = format!("pinned:{k}");
+                self.push(EventKind::Unlock { obstacle });
+                closest
+            }
+            None => closest,
+        };
+        let switched = tracker.owner.is_some() && owner.is_some() && tracker.owner != owner;
+        tracker.owner = owner;
+        if let Some(o) = owner {
+            self.monitor_chattering(&mut tracker, &format!("pinned:{k}"), switched, o);
+        }
+        self.trackers.insert(key.clone(), tracker);
+        owner
     }
 
     /// The speed at which control point `key` and what it answers close in
@@ -279,22 +374,33 @@ impl World {
         self.scenario
             .task
             .references(&self.robot, self.t, &self.anchors, &mut refs);
-        let (robot, frames, qdot) = (&self.robot, &self.frames, &self.motion.qdot);
-        let request = match cfg.mode {
-            Mode::Velocity => avoidance::velocity_control(robot, frames, active, &refs, cfg)?,
-            Mode::Torque => {
-                avoidance::torque_control(robot, frames, qdot, active, &refs, cfg, dt)?.0
-            }
-            Mode::Clik2 => {
-                avoidance::clik2_control(robot, frames, &self.q, qdot, active, &refs, cfg, dt)?
-            }
-        };
         self.references = refs;
-        self.request = request;
+        self.request = self.request_for(cfg, active, &self.q, &self.motion.qdot, dt)?;
         if self.stopped {
             self.request.iter_mut().for_each(|v| *v = 0.0);
         }
         Ok(())
+    }
+
+    /// The controller's joint command for the active points `active` and
+    /// this step's task references.
+    pub(super) fn request_for(
+        &self,
+        cfg: &ControllerConfig,
+        active: &[ActivePoint],
+        q: &[f64],
+        qdot: &[f64],
+        dt: f64,
+    ) -> Result<Vec<f64>, FieldError> {
+        let (robot, frames) = (&self.robot, &self.frames);
+        let refs = &self.references;
+        Ok(match cfg.mode {
+            Mode::Velocity => avoidance::velocity_control(robot, frames, active, refs, cfg)?,
+            Mode::Torque => {
+                avoidance::torque_control(robot, frames, qdot, active, refs, cfg, dt)?.0
+            }
+            Mode::Clik2 => avoidance::clik2_control(robot, frames, q, qdot, active, refs, cfg, dt)?,
+        })
     }
 
     /// The pairs the protective layer guards: every pair within the
@@ -373,6 +479,15 @@ impl World {
             .guard_pairs
             .iter()
             .all(|g| p.bound(g.distance, g.obstacle_speed, braking) >= 0.0);
+        // Time to collision shorter than a transition plus braking: the
+        // approach to that obstacle is slowed (retreat is left free).
+        for g in &mut guards {
+            if let Some(o) = g.obstacle
+                && g.bound > 0.0
+            {
+                g.bound *= self.slowdown.get(o).copied().unwrap_or(1.0);
+            }
+        }
         let (lo, hi) = velocity_box(&self.robot, &self.q);
         let weights = cfg.joint_weights.as_deref().unwrap_or(&[]);
         let mut out = Vec::with_capacity(self.request.len());
@@ -423,7 +538,6 @@ impl World {
     /// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`.
     fn limit_and_integrate(&mut self, dt: f64) {
         self.step_t = self.t;
-        self.step_q.clone_from(&self.q);
         // A chattering stop decelerates gently (`maxDeceleration`); a stop
         // before an unavoidable contact and the emergency brake use every
         // joint's full deceleration.

@@ -6,13 +6,15 @@
 
 use std::collections::BTreeSet;
 
+use super::obstacles::SwitchOdds;
+use super::uncertainty::segment_odds;
 use super::{StopReason, World};
 use crate::avoidance::ControllerConfig;
 use crate::avoidance::selection::{Key, Selected};
 use crate::dependability::{ChatteringPolicy, EventKind, SwitchCounter};
 use crate::distance::{PairDistance, Target};
 use crate::error::FieldError;
-use crate::transition::{MovingPoint, PointEvent, SkeletonPoint, TransitionSettings};
+use crate::transition::{MovingPoint, PointEvent, SkeletonPoint, TransitionSettings, route_length};
 
 /// The state of one control point across steps.
 #[derive(Clone, Debug)]
@@ -25,7 +27,9 @@ pub(super) struct Tracker {
     pub(super) too_slow: bool,
     counter: SwitchCounter,
     pub(super) chattering: bool,
-    lock: Option<(usize, f64)>,
+    /// A `lock` under way: what is held (segment, or for a pinned point
+    /// the obstacle it answers) and until when.
+    pub(super) lock: Option<(usize, f64)>,
 }
 
 impl Tracker {
@@ -43,44 +47,43 @@ impl Tracker {
 }
 
 impl World {
-    /// Switch risk: for each obstacle sensed with an error, another part of
-    /// the skeleton whose distance is within twice the margin of the
-    /// closest one (raised when it starts).
+    /// Switch risk: for each obstacle within reach, the probability that
+    /// the segment sensed as closest differs from the ideal one
+    /// ([`crate::dependability::switch_probability`]) over the other segments whose own closest
+    /// point is farther than the jump threshold from it; `switchRisk` is
+    /// raised when it exceeds the configured level (when it starts).
     pub(super) fn monitor_switch_risk(
         &mut self,
         pairs: &[PairDistance],
         selected: &Selected,
         config: &ControllerConfig,
     ) {
+        let level = self.scenario.dependability.switch_risk;
         let mut risky_now = BTreeSet::new();
+        for o in &mut self.obstacles {
+            o.switch = SwitchOdds::default();
+        }
         for (&owner, &k) in &selected.closest {
-            let margin = self.obstacles[owner].margin;
             let b = &pairs[k];
-            if margin <= 0.0 {
+            let mine = |p: &PairDistance| matches!(p.target, Target::Obstacle { id, .. } if self.owners[id as usize] == owner);
+            let covariance = self.obstacles[owner].covariance;
+            let (odds, alt) = segment_odds(pairs, b, mine, config.jump_threshold, &covariance);
+            let probability = odds.probability;
+            self.obstacles[owner].switch = odds;
+            let Some(alt) = alt.filter(|_| probability >= level) else {
                 continue;
-            }
-            let alternative = pairs
-                .iter()
-                .filter(|p| {
-                    matches!(p.target, Target::Obstacle { id, .. } if self.owners[id as usize] == owner)
-                        && p.segment != b.segment
-                        && (p.point_segment - b.point_segment).length() > config.jump_threshold
-                })
-                .min_by(|x, y| x.distance.total_cmp(&y.distance));
-            let Some(alt) = alternative else { continue };
-            let gap = alt.distance - b.distance;
-            if gap <= 2.0 * margin {
-                risky_now.insert(owner);
-                if !self.risky.contains(&owner) {
-                    let obstacle = self.obstacles[owner].spec.id.clone();
-                    self.push(EventKind::SwitchRisk {
-                        obstacle,
-                        segment: b.segment,
-                        alternative: alt.segment,
-                        gap,
-                        margin,
-                    });
-                }
+            };
+            risky_now.insert(owner);
+            if !self.risky.contains(&owner) {
+                let o = &self.obstacles[owner];
+                self.push(EventKind::SwitchRisk {
+                    obstacle: o.spec.id.clone(),
+                    segment: b.segment,
+                    alternative: alt.segment,
+                    gap: alt.distance - b.distance,
+                    margin: o.margin,
+                    probability,
+                });
             }
         }
         self.risky = risky_now;
@@ -132,7 +135,6 @@ impl World {
         };
         self.trackers
             .retain(|k, _| selected.points.contains_key(k) || matches!(k, Key::Pinned(_)));
-        let dep = self.scenario.dependability;
         let mut point_events = Vec::new();
         for (key, &(mut at, owner)) in &selected.points {
             let mut tracker = self
@@ -149,45 +151,20 @@ impl World {
                     at = self.locked_point(&tracker, segment, pairs);
                 }
             }
+            // A switch: the selected point jumps along the skeleton farther
+            // than the jump threshold in one step (to another segment, or
+            // along its own: a pair's point, whose segment is fixed).
+            let jumped =
+                route_length(&self.skeleton, tracker.mover.selected(), at) > config.jump_threshold;
             point_events.clear();
             tracker
                 .mover
                 .update(&self.skeleton, at, dt, &settings, &mut point_events)?;
-            let mut switches = 0;
-            for e in &point_events {
-                if matches!(e, PointEvent::SegmentSwitch { .. }) {
-                    switches = tracker.counter.record(t, dep.switch_window);
-                }
-            }
-            let chattering =
-                tracker.counter.count(t, dep.switch_window) > dep.max_switches as usize;
-            let rising = chattering && !tracker.chattering;
-            tracker.chattering = chattering;
-            let lock_segment = tracker.mover.point().segment;
-            if rising && dep.on_chattering == ChatteringPolicy::Lock {
-                tracker.lock = Some((lock_segment, t + dep.lock_time));
-            }
-            self.trackers.insert(key.clone(), tracker);
             let name = self.name(key);
             self.push_point_events(&name, &mut point_events);
-            if rising {
-                self.push(EventKind::Chattering {
-                    obstacle: name.clone(),
-                    switches,
-                });
-                match dep.on_chattering {
-                    ChatteringPolicy::Stop => self.stop(
-                        StopReason::Chattering,
-                        format!("chattering control point ({name})"),
-                        dep.lock_time,
-                    ),
-                    ChatteringPolicy::Lock => self.push(EventKind::Lock {
-                        obstacle: name,
-                        segment: lock_segment,
-                        until: t + dep.lock_time,
-                    }),
-                }
-            }
+            let hold = tracker.mover.point().segment;
+            self.monitor_chattering(&mut tracker, &name, jumped, hold);
+            self.trackers.insert(key.clone(), tracker);
         }
         if config.selection == crate::avoidance::Selection::Pinned {
             for k in 0..config.pinned.len() {
@@ -197,6 +174,50 @@ impl World {
             }
         }
         Ok(())
+    }
+
+    /// The chattering monitor of one control point: counts a switch,
+    /// and on rising chattering applies the policy (`lock` holds the point
+    /// on `hold` — its segment, or for a pinned point the obstacle it
+    /// answers — for `lockTime`; `stop` stops the arm).
+    pub(super) fn monitor_chattering(
+        &mut self,
+        tracker: &mut Tracker,
+        name: &str,
+        switched: bool,
+        hold: usize,
+    ) {
+        let (t, dep) = (self.t, self.scenario.dependability);
+        let switches = if switched {
+            tracker.counter.record(t, dep.switch_window)
+        } else {
+            tracker.counter.count(t, dep.switch_window)
+        };
+        let chattering = switches > dep.max_switches as usize;
+        let rising = chattering && !tracker.chattering;
+        tracker.chattering = chattering;
+        if !rising {
+            return;
+        }
+        self.push(EventKind::Chattering {
+            obstacle: name.to_owned(),
+            switches,
+        });
+        match dep.on_chattering {
+            ChatteringPolicy::Stop => self.stop(
+                StopReason::Chattering,
+                format!("chattering control point ({name})"),
+                dep.lock_time,
+            ),
+            ChatteringPolicy::Lock => {
+                tracker.lock = Some((hold, t + dep.lock_time));
+                self.push(EventKind::Lock {
+                    obstacle: name.to_owned(),
+                    segment: hold,
+                    until: t + dep.lock_time,
+                });
+            }
+        }
     }
 
     fn push_point_events(&mut self, name: &str, events: &mut Vec<PointEvent>) {

@@ -278,6 +278,42 @@ impl Scene {
         Ok(out)
     }
 
+    /// Segment `segment` of `skeleton` measured against obstacle `index` of
+    /// the scene moved by `offset` (the same pair as [`Scene::query`] would
+    /// report, whatever the influence distance): what uncertainty
+    /// propagation differentiates ([`crate::dependability::propagate`]).
+    ///
+    /// # Errors
+    /// An index out of range, non-finite input.
+    pub fn pair_moved(
+        &self,
+        skeleton: &Skeleton,
+        segment: usize,
+        index: usize,
+        offset: DVec3,
+    ) -> Result<PairDistance, DistanceError> {
+        let (Some(s), Some(o)) = (skeleton.segments.get(segment), self.obstacles.get(index)) else {
+            return Err(FieldError::new("segment", "index out of range").into());
+        };
+        let (Some(a), Some(b)) = (skeleton.nodes.get(s.from), skeleton.nodes.get(s.to)) else {
+            return Err(FieldError::new("segment", "node index out of range").into());
+        };
+        finite3("offset", offset)?;
+        // Moving the obstacle by `offset` is moving the segment by `−offset`.
+        let vol = volume(
+            LineSegment {
+                a: *a - offset,
+                b: *b - offset,
+            },
+            s.radius,
+        );
+        let d = distance(&vol, &o.shape)?;
+        let mut p = pair(segment, &vol, Target::Obstacle { index, id: o.id }, d);
+        p.point_segment += offset;
+        p.point_other += offset;
+        Ok(p)
+    }
+
     /// The first obstacle hit by the ray from `origin` along `direction`
     /// (parry ray casts; points and segments are picked within
     /// `pick_radius`, tapered capsules through the capsule of their larger
