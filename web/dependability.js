@@ -259,20 +259,30 @@ function riskMap(pg) {
     const c0 = shapeCenter(shape);
     const { cx, cy, half } = mapExtent(state);
     const kind = d.riskKind.value;
+    const sensing = riskSensing(pg, selected?.id);
     const values = [];
     for (let j = 0; j < RISK_GRID; j++) {
       for (let i = 0; i < RISK_GRID; i++) {
         const p = [cx - half + ((i + 0.5) * 2 * half) / RISK_GRID, cy + half - ((j + 0.5) * 2 * half) / RISK_GRID, z];
         const placed = translateShape(shape, [p[0] - c0[0], p[1] - c0[1], p[2] - c0[2]]);
-        values.push(kind === 'clearance' ? pg.world.clearanceTo(placed) : pg.world.riskAt(placed).switchProbability);
+        values.push(kind === 'clearance' ? pg.world.clearanceTo(placed) : pg.world.riskAt(placed, sensing).switchProbability);
       }
     }
     const influence = pg.scenario.controller?.influenceDistance ?? 0.2;
     d.riskValues = { kind, values, extent: { cx, cy, half }, z };
     drawRisk(d.risk, d.riskValues, influence, state);
     d.riskMessage.textContent = `${selected ? `“${selected.id}”` : 'a 5 cm sphere'} placed at ${RISK_GRID}×${RISK_GRID} points at z = ${z.toFixed(2)} m; ` +
-      (kind === 'clearance' ? `red: contact, green: beyond the influence distance (${influence} m)` : 'switch probability, 0 (blue) to 1 (red)');
+      (kind === 'clearance' ? `red: contact, green: beyond the influence distance (${influence} m)`
+        : `probability that the sensed closest segment is not the true one (sensing ${JSON.stringify(sensing)}): green 0, yellow ½, red 1`);
   });
+}
+
+/** The sensing of obstacle `id` in the scene (its own, else the default), or the study's noise when it is exact. */
+function riskSensing(pg, id) {
+  const sensing = pg.scenario.sensing ?? {};
+  const spec = (id && sensing[id]) || sensing.default || {};
+  const noisy = Object.entries(spec).some(([k, x]) => k !== 'seed' && k !== 'latency' && x > 0);
+  return noisy ? spec : { ...STUDY_NOISE };
 }
 
 /** Colour of a value in [0, 1] (0 red, ½ yellow, 1 green). */

@@ -116,6 +116,21 @@ test('the risk map is a non-uniform heat map of the clearance over the plane', a
     await page.locator('#risk-map').scrollIntoViewIfNeeded();
     await page.screenshot({ path: path.join(artifacts, 'dependability-risk-map.png') });
     await page.locator('#risk-map').screenshot({ path: path.join(artifacts, 'risk-map.png') });
+
+    // The switch probability (World.riskAt) over the same plane: 0 far
+    // from the arm, high where two segments are about equally close.
+    await page.locator('#risk-kind').selectOption('switchProbability');
+    await page.locator('#risk-run').click();
+    const risk = await page.evaluate(() => window.playground.app.study.riskValues);
+    assert.equal(risk.kind, 'switchProbability');
+    assert.ok(risk.values.every((p) => p >= 0 && p <= 1));
+    const high = risk.values.filter((p) => p > 0.2).length;
+    const zero = risk.values.filter((p) => p < 1e-6).length;
+    assert.ok(high > 0 && zero > 100, `${high} cells above 0.2, ${zero} at 0`);
+    assert.match(await page.locator('#risk-message').innerText(), /probability that the sensed closest segment/);
+    await page.locator('#risk-map').scrollIntoViewIfNeeded();
+    await page.screenshot({ path: path.join(artifacts, 'dependability-risk-switch.png') });
+    assert.deepEqual(await scene(page), before);
     assert.deepEqual(errors, []);
   } finally {
     await browser.close();
