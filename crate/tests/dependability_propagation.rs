@@ -162,6 +162,7 @@ fn switch_probability_matches_the_sampled_frequency_across_the_boundary_of_two_s
             }
         }
         let frequency = f64::from(switched) / f64::from(runs as u32);
+        eprintln!("offset {s:+.3} m: predicted {predicted:.3}, sampled {frequency:.3}");
         assert!(
             (predicted - frequency).abs() <= 0.05,
             "offset {s:+.3}: predicted {predicted:.3}, sampled {frequency:.3}"
