@@ -57,6 +57,8 @@ export function buildDependability(pg) {
   d.heightOut = h('output', {}, '0.00 m');
   d.riskKind = h('select', { id: 'risk-kind' }, h('option', { value: 'clearance' }, 'clearance'));
   d.riskButton = h('button', { type: 'button', id: 'risk-run', onclick: () => riskMap(pg) }, 'Risk map');
+  d.atObstacle = h('button', { type: 'button', id: 'risk-at-obstacle', title: 'the plane through the selected obstacle',
+    onclick: () => planeThroughSelected(pg) }, 'through selected');
   d.risk = h('canvas', { id: 'risk-map', width: 300, height: 300, hidden: true,
     'aria-label': 'risk map: the selected obstacle placed at each point of a horizontal plane' });
   d.riskMessage = h('div', { class: 'hint', id: 'risk-message' });
@@ -68,7 +70,7 @@ export function buildDependability(pg) {
     field('runs', d.runs), field('duration (s)', d.duration), field('seed', d.seed),
     h('div', { class: 'row' }, d.runButton, d.cancelButton, d.progress),
     d.message, d.histogram, d.table,
-    h('div', { class: 'row' }, h('label', {}, 'plane height', d.height, d.heightOut)),
+    h('div', { class: 'row' }, h('label', {}, 'plane height', d.height, d.heightOut), d.atObstacle),
     h('div', { class: 'row' }, d.riskKind, d.riskButton),
     d.risk, d.riskMessage);
 }
@@ -87,6 +89,21 @@ export function refreshDependability(pg) {
   d.height.max = String((hi + 0.3).toFixed(2));
   d.height.value = String(((lo + hi) / 2).toFixed(2));
   d.heightOut.textContent = `${Number(d.height.value).toFixed(2)} m`;
+}
+
+/** Puts the plane through the selected obstacle's centre (a message when none is selected). */
+function planeThroughSelected(pg) {
+  const d = pg.study;
+  const shape = pg.selected && pg.shapeOf(pg.selected);
+  if (!shape) {
+    d.riskMessage.textContent = 'Select an obstacle first (click it in the view or in the list).';
+    return;
+  }
+  const z = shapeCenter(shape)[2];
+  d.height.min = String(Math.min(Number(d.height.min), z));
+  d.height.max = String(Math.max(Number(d.height.max), z));
+  d.height.value = String(z);
+  d.heightOut.textContent = `${z.toFixed(2)} m`;
 }
 
 // ---- the study ----

@@ -100,8 +100,15 @@ test('the risk map is a non-uniform heat map of the clearance over the plane', a
     await page.evaluate(() => window.playground.ready);
     await frames(page, 3);
     const before = await scene(page);
-    // Select the ball (as the obstacle list does) and map it at the elbow's height.
+    // Without a selection the plane cannot go through it.
+    await page.locator('#risk-at-obstacle').click();
+    assert.match(await page.locator('#risk-message').innerText(), /^Select an obstacle first/);
+    // Select the ball (as the obstacle list does): the plane goes through
+    // it; then map it at the elbow's height.
     await page.evaluate(() => window.playground.app.select('ball'));
+    await page.locator('#risk-at-obstacle').click();
+    const ballZ = (await scene(page)).s.obstacles[0].shape.center[2];
+    assert.ok(Math.abs(Number(await page.locator('#risk-height').inputValue()) - ballZ) < 0.006, `plane at ${ballZ}`);
     await page.locator('#risk-height').fill('0.6');
     await page.locator('#risk-run').click();
     await page.locator('#risk-map').waitFor({ state: 'visible' });
