@@ -135,10 +135,13 @@ pub fn monte_carlo_merge(rows: JsValue, options: JsValue) -> Result<JsValue, JsE
     } else {
         object_from_js("options", options)?
     };
-    if !js_sys::Array::is_array(&rows) {
+    // Read once by boundary.js (a revoked Proxy or a throwing getter becomes
+    // a clean `Error`), then checked: even `Array.isArray` throws on a
+    // revoked Proxy.
+    let json = super::boundary::read_json("rows", &rows)?;
+    if !json.is_array() {
         return Err(js_error(&FieldError::new("rows", "expected an array")));
     }
-    let json = super::boundary::read_json("rows", &rows)?;
     let rows: Vec<RunRow> = from_json_at("rows", "rows", json)?;
     let report = study::merge(rows, o.rows).map_err(|e| js_error(&e))?;
     to_js(&report)
