@@ -447,6 +447,20 @@ export interface MonteCarloReport {
   rows?: MonteCarloRow[];
 }
 
+/** A point of the skeleton picked with a ray: DH values usable in `controller.pinned`. */
+export interface SkeletonPickResult extends DhPoint {
+  /** Index of the skeleton segment. */
+  segment: number;
+  /** m, from the DH values. */
+  position: Vec3;
+  /** Along the ray from its origin to its closest approach (m). */
+  distance: number;
+  /** From the ray to the point (m). */
+  offset: number;
+  /** Radius of the link's volume there (m). */
+  radius: number;
+}
+
 // ---- functions ----
 
 export function robotPreset(name: PresetName): RobotSpec;
@@ -488,6 +502,8 @@ export class World {
   moveObstacle(id: string, position: Vec3): void;
   setController(partial: Controller): void;
   pick(origin: Vec3, direction: Vec3): PickResult | null;
+  /** The skeleton's point under a ray as `{ link, d, a }`, or null when the ray misses the arm. */
+  pickSkeleton(origin: Vec3, direction: Vec3): SkeletonPickResult | null;
   reset(): void;
   free(): void;
 }

@@ -78,6 +78,8 @@ export function wireInput(pg) {
     canvas.setPointerCapture?.(e.pointerId);
     const px = pixel(canvas, e);
     const camera = e.button === 2 || e.button === 1 || e.shiftKey;
+    // Pin mode: a click on a link pins a control point there (nothing is dragged).
+    if (pg.pinMode && !camera && e.button === 0 && pg.pinAt(px)) return;
     if (!camera && e.button === 0) {
       const ray = pg.viewer.rayAt(px[0], px[1]);
       const hit = pg.guard(() => pg.world.pick(ray.origin, ray.direction));
@@ -174,7 +176,8 @@ export function onKey(pg, e) {
     f: () => pg.fit(),
     Delete: () => pg.removeSelected(),
     Backspace: () => pg.removeSelected(),
-    Escape: () => { pg.toggleHelp(false); pg.select(null); },
+    Escape: () => { pg.toggleHelp(false); pg.select(null); if (pg.pinMode) pg.setPinMode(false); },
+    p: () => { if (pg.controls === 'full') pg.setPinMode(); },
     '?': () => pg.toggleHelp(),
     h: () => pg.toggleHelp(),
     '[': () => pg.editSelected((s) => scaleShape(s, 0.8)),

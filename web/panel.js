@@ -1,5 +1,5 @@
 // The side panel of the full playground: scenario, simulation, obstacles,
-// controller, sensing, the robot's DH table with its joint limits (every
+// controller, pinned control points (built in `pinning.js`), sensing, the robot's DH table with its joint limits (every
 // chain, branches included), initial joints and the view.
 //
 // Every value typed is checked in place (decimal numbers only, within sane
@@ -124,6 +124,7 @@ export function buildPanel(pg) {
     field('influence distance (m)', p.influenceDistance), field('repulsion gain', p.repulsionGain),
     field('max repulsion speed (m/s)', p.maxRepulsionSpeed), field('transition time (s/value)', p.transitionTime),
     p.controllerMessage,
+    ...pg.pinSection(),
     h('h3', {}, 'Sensing and dependability'),
     field('noise bound (m)', p.bound), field('noise σ (m)', p.sigma),
     field('switch window (s)', p.switchWindow), field('max switches', p.maxSwitches),
@@ -233,6 +234,7 @@ export function refreshPanel(pg) {
   p.controllerMessage.textContent = '';
   p.worldMessage.textContent = '';
   buildJointSliders(pg);
+  pg.refreshPinned();
   refreshObstacleList(pg);
   refreshSelected(pg);
   refreshDependability(pg);

@@ -11,6 +11,7 @@ import { TraceRecorder } from './export.js';
 import { wireInput } from './input.js';
 import { readoutMethods } from './readouts.js';
 import { sceneMethods } from './scene-edits.js';
+import { pinMethods, withoutPins } from './pinning.js';
 import { PRESETS, applyDh, buildPanel, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
 import { TimePlot } from './plots.js';
 import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
@@ -52,11 +53,12 @@ const HELP = [
   ['F or double click', 'frame the robot and the obstacles'],
   ['1 … 0', 'add point, segment, sphere, capsule, plane, rectangle, disk, polygon, box, human'],
   ['Click', 'select an obstacle (drag it on the plane facing you)'],
+  ['P, then click the arm', 'pin a control point on the link clicked (selection: pinned)'],
   ['Alt + drag', 'move the obstacle along the view direction'],
   ['Delete', 'delete the selected obstacle'],
   ['[ / ]', 'shrink / grow the selected obstacle'],
   ['Q / E', 'rotate the selected obstacle about z'],
-  ['Escape', 'deselect, close this help'],
+  ['Escape', 'deselect, leave Pin mode, close this help'],
   ['V', 'next camera view'],
   ['Drag empty space', 'orbit (3D) or pan (2D); right or Shift + drag pans'],
   ['Wheel', 'zoom once the view was clicked (or with Ctrl held); two fingers pinch'],
@@ -326,7 +328,14 @@ export class Playground {
     if (ok) {
       this.scenario.controller = { ...(this.scenario.controller ?? {}), ...partial };
       this.forgetShareLink();
+      this.refreshPinned();
+    } else if (this.panel) {
+      // Refused: the menus show what is in force.
+      const c = this.scenario.controller ?? {};
+      this.panel.mode.value = c.mode ?? 'velocity';
+      this.panel.selection.value = c.selection ?? 'perObstacle';
     }
+    return Boolean(ok);
   }
 
   applySensing() {
@@ -351,7 +360,9 @@ export class Playground {
    * message naming `what` (the preset or the edited robot the person chose).
    */
   withRobot(robot, q0, box, what = 'robot') {
-    const next = { ...this.currentScenario({ keepQ0: true }), robot, q0 };
+    // Pinned points name rows of the old robot: a new robot starts without them.
+    const current = this.currentScenario({ keepQ0: true });
+    const next = { ...current, robot, q0, controller: withoutPins(current.controller) };
     const message = this.loadScenario(next, what);
     if (!message) {
       // The scene keeps its name; only the robot changed.
@@ -544,4 +555,4 @@ export class Playground {
   }
 }
 
-Object.assign(Playground.prototype, sceneMethods, readoutMethods);
+Object.assign(Playground.prototype, sceneMethods, readoutMethods, pinMethods);

@@ -76,6 +76,13 @@ kbd { font: 11px ui-monospace, monospace; border: 1px solid #c9ced8; border-bott
 .obstacles li { padding: 0.1rem 0.4rem; cursor: pointer; font-size: 12px; }
 .obstacles li:focus-visible { outline: 2px solid #2563eb; outline-offset: -2px; }
 .obstacles li.selected { background: #fde9a6; }
+.pinned-points { list-style: none; padding: 0; margin: 0.25rem 0; border: 1px solid #e6e9ef; border-radius: 3px; }
+.pinned-points:empty { display: none; }
+.pinned-points li { display: flex; gap: 0.4rem; align-items: center; justify-content: space-between; padding: 0.1rem 0.2rem 0.1rem 0.4rem; font-size: 12px; }
+.pinned-points li:focus-visible { outline: 2px solid #2563eb; outline-offset: -2px; }
+.pinned-points .remove { font-size: 11px; padding: 0 0.35rem; }
+#pin-mode[aria-pressed=true] { background: #a0207a; color: #fff; border-color: #a0207a; }
+.view.pinning { cursor: copy; }
 .bar { display: flex; gap: 0.4rem; align-items: center; padding: 0.3rem 0.5rem; border-top: 1px solid #dde1e8; background: #fff; }
 .bar .title { flex: 1; color: #4a5160; font-size: 12px; overflow: hidden; text-overflow: ellipsis; white-space: nowrap; }
 .hint { color: #4a5160; font-size: 12px; }

@@ -185,9 +185,163 @@ impl Skeleton {
         best.map(|(k, t, c, _)| (k, t, c))
     }
 
+    /// The segment of the skeleton a ray points at, and the point of its
+    /// spine closest to the ray; `None` when the ray passes every volume by
+    /// more than `tolerance` (m) or the skeleton has no segment.
+    ///
+    /// The ray starts at `origin` and runs along `direction` (any length;
+    /// `None` when it is zero or not finite). A segment is hit when the ray
+    /// passes within its radius there plus `tolerance`. The volume entered
+    /// first is found (its entry estimated as the closest approach minus the
+    /// half chord of a sphere of that radius); it and every hit segment
+    /// whose closest approach lies no deeper than its closest approach plus
+    /// its radius (at the same depth, as all spines of a planar arm seen
+    /// from above) compete, and the spine nearest the ray wins. A volume in
+    /// front hides what is behind it; volumes that overlap at a joint do not
+    /// hide each other's spines.
+    #[must_use]
+    pub fn ray_hit(&self, origin: DVec3, direction: DVec3, tolerance: f64) -> Option<RayHit> {
+        let u = direction.try_normalize()?;
+        if !origin.is_finite() || !tolerance.is_finite() {
+            return None;
+        }
+        let tolerance = tolerance.max(0.0);
+        let mut hits = Vec::new();
+        for (k, s) in self.segments.iter().enumerate() {
+            let (a, b) = self.endpoints(s);
+            let (t, along) = ray_segment_closest(origin, u, a, b);
+            let point = a + (b - a) * t;
+            let offset = (origin + u * along - point).length();
+            let radius = Self::radius_at(s, t);
+            let reach = radius.max(0.0) + tolerance;
+            if offset <= reach {
+                let entry = along - (reach * reach - offset * offset).max(0.0).sqrt();
+                let hit = RayHit {
+                    segment: k,
+                    t,
+                    point,
+                    distance: along,
+                    offset,
+                    radius,
+                };
+                hits.push((entry, reach, hit));
+            }
+        }
+        let (_, reach, front) = hits.iter().copied().min_by(|x, y| x.0.total_cmp(&y.0))?;
+        let depth = front.distance + reach;
+        hits.into_iter()
+            .map(|(_, _, h)| h)
+            .filter(|h| h.distance <= depth)
+            .min_by(|x, y| {
+                x.offset
+                    .total_cmp(&y.offset)
+                    .then(x.distance.total_cmp(&y.distance))
+            })
+    }
+
     /// Radius of segment `s` at fraction `t` along it.
     #[must_use]
     pub fn radius_at(s: &Segment, t: f64) -> f64 {
         s.radius[0] + (s.radius[1] - s.radius[0]) * t
+    }
+}
+
+/// Where a ray passes closest to a skeleton segment: see [`Skeleton::ray_hit`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayHit {
+    /// Index of the segment.
+    pub segment: usize,
+    /// Fraction along the segment, in `[0, 1]`.
+    pub t: f64,
+    /// The point of the spine closest to the ray (m, world frame).
+    pub point: DVec3,
+    /// Distance along the ray from its origin to its closest approach (m).
+    pub distance: f64,
+    /// Distance between the ray and `point` (m).
+    pub offset: f64,
+    /// Radius of the segment's volume at `point` (m).
+    pub radius: f64,
+}
+
+/// Closest points of the ray `origin + s u` (`s ≥ 0`, `u` unit) and the
+/// segment `a b`: the fraction `t ∈ [0, 1]` along the segment and `s`.
+/// The segment's parameter is solved first and clamped, then the ray's; if
+/// the ray's is clamped to its origin the segment's is solved again (the
+/// clamping order of Ericson's segment–segment routine).
+fn ray_segment_closest(origin: DVec3, u: DVec3, a: DVec3, b: DVec3) -> (f64, f64) {
+    let v = b - a;
+    let w = a - origin;
+    let vv = v.length_squared();
+    let uv = u.dot(v);
+    let uw = u.dot(w);
+    let vw = v.dot(w);
+    let denom = vv - uv * uv;
+    let t = if vv <= f64::MIN_POSITIVE {
+        0.0
+    } else if denom > 1e-12 * vv {
+        // Lines' closest points, solved for the segment's parameter.
+        ((uv * uw - vw) / denom).clamp(0.0, 1.0)
+    } else {
+        // Parallel: any point does; take the segment's start.
+        0.0
+    };
+    let s = uw + uv * t;
+    if s >= 0.0 {
+        return (t, s);
+    }
+    let t = if vv <= f64::MIN_POSITIVE {
+        0.0
+    } else {
+        (-vw / vv).clamp(0.0, 1.0)
+    };
+    (t, 0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ray_segment_closest_points_match_a_dense_search() {
+        let cases = [
+            (
+                DVec3::new(0.0, 0.0, 2.0),
+                DVec3::new(0.1, 0.2, -1.0),
+                DVec3::new(-1.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.5, 0.2),
+            ),
+            (
+                DVec3::new(3.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::ZERO,
+                DVec3::new(0.0, 1.0, 0.0),
+            ),
+            (
+                DVec3::new(0.0, 1.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::ZERO,
+                DVec3::new(2.0, 0.0, 0.0),
+            ),
+            (
+                DVec3::new(0.5, 0.5, 0.5),
+                DVec3::new(0.0, 0.0, 1.0),
+                DVec3::ZERO,
+                DVec3::ZERO,
+            ),
+        ];
+        for (o, d, a, b) in cases {
+            let u = d.normalize();
+            let (t, s) = ray_segment_closest(o, u, a, b);
+            let got = (o + u * s - (a + (b - a) * t)).length();
+            let mut best = f64::INFINITY;
+            for i in 0..=400 {
+                let tt = f64::from(i) / 400.0;
+                let p = a + (b - a) * tt;
+                let ss = (p - o).dot(u).max(0.0);
+                best = best.min((o + u * ss - p).length());
+            }
+            assert!((0.0..=1.0).contains(&t) && s >= 0.0);
+            assert!(got <= best + 1e-12, "{got} > {best}");
+        }
     }
 }

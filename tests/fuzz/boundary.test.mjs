@@ -97,6 +97,7 @@ const METHODS = [
   ['moveObstacle', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, [0.2, 0.1, 0.3])], true],
   ['setController', (r) => [arg(r, CONTROLLER)], true],
   ['pick', (r) => [arg(r, [0, 0, 2]), arg(r, [0, 0, -1])]],
+  ['pickSkeleton', (r) => [arg(r, [0.3, 0, 2]), arg(r, [0, 0, -1])]],
   ['reset', () => []],
 ];
 

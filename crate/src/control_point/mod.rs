@@ -103,7 +103,66 @@ pub fn a_span(robot: &Robot, link: usize) -> (f64, f64) {
     }
 }
 
+/// Range `[lo, hi]` of `d'` on row `link` (1-based) over every
+/// configuration: the row's `d` for a revolute joint, the union of the spans
+/// the slide reaches within its limits for a prismatic one (unbounded when
+/// the slide has no limit).
+#[must_use]
+pub fn d_reach(robot: &Robot, link: usize) -> (f64, f64) {
+    let j = &robot.joints[link - 1];
+    match j.kind {
+        JointType::Revolute => (j.d.min(0.0), j.d.max(0.0)),
+        JointType::Prismatic => ((j.d + j.min).min(0.0), (j.d + j.max).max(0.0)),
+    }
+}
+
 impl DhPoint {
+    /// Checks a point meant to stay on the robot whatever its configuration
+    /// (a pinned control point): the link index, finite values, `a'` within
+    /// the link's span and `d'` within [`d_reach`] (a prismatic row's `d'`
+    /// may lie past the slide's current end; see [`DhPoint::clamped`]).
+    ///
+    /// # Errors
+    /// As [`DhPoint::validate`].
+    pub fn validate_reachable(&self, robot: &Robot) -> Result<(), FieldError> {
+        let n = robot.dof();
+        if self.link < 1 || self.link > n {
+            return Err(FieldError::new(
+                "link",
+                format!("{} is out of range 1..={n}", self.link),
+            ));
+        }
+        finite("d", self.d)?;
+        finite("a", self.a)?;
+        let (lo, hi) = d_reach(robot, self.link);
+        if self.d < lo - SPAN_TOLERANCE || self.d > hi + SPAN_TOLERANCE {
+            return Err(FieldError::new(
+                "d",
+                format!("{} is outside the link's reach [{lo}, {hi}]", self.d),
+            ));
+        }
+        let (lo, hi) = a_span(robot, self.link);
+        if self.a < lo - SPAN_TOLERANCE || self.a > hi + SPAN_TOLERANCE {
+            return Err(FieldError::new(
+                "a",
+                format!("{} is outside the link's span [{lo}, {hi}]", self.a),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The point with `d'` clamped to the row's span at the configuration
+    /// of `frames` (a prismatic row retracted past a pinned point brings it
+    /// back to the slide's end); `link` must be in range.
+    #[must_use]
+    pub fn clamped(&self, frames: &Frames) -> Self {
+        let (lo, hi) = d_span(frames, self.link);
+        Self {
+            d: self.d.clamp(lo, hi),
+            ..*self
+        }
+    }
+
     /// Checks the link index and that `d'`, `a'` are finite and within the
     /// link's span.
     ///

@@ -17,7 +17,7 @@
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use crate::avoidance::{ControllerConfig, Selection};
+use crate::avoidance::ControllerConfig;
 use crate::dependability::DependabilityConfig;
 use crate::error::{FieldError, positive};
 use crate::kinematics::{Robot, RobotSpec, presets};
@@ -262,15 +262,9 @@ pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), Fi
             ),
         ));
     }
-    if c.selection == Selection::Pinned || !c.pinned.is_empty() {
-        let q = vec![0.0; robot.dof()];
-        let mut q = q;
-        robot.clamp_to_limits(&mut q);
-        let frames = robot.forward(&q)?;
-        for (k, p) in c.pinned.iter().enumerate() {
-            p.validate(robot, &frames)
-                .map_err(|e| e.within(&format!("pinned[{k}]")))?;
-        }
+    for (k, p) in c.pinned.iter().enumerate() {
+        p.validate_reachable(robot)
+            .map_err(|e| e.within(&format!("pinned[{k}]")))?;
     }
     Ok(())
 }

@@ -161,6 +161,7 @@ const WORLD_ARGS: &[(&str, &[&str])] = &[
     ("moveObstacle", &["id", "position"]),
     ("setController", &["controller"]),
     ("pick", &["origin", "direction"]),
+    ("pickSkeleton", &["origin", "direction"]),
 ];
 
 /// Guards the `World` class (see `guardClass` in `boundary.js`): called once
@@ -384,6 +385,29 @@ impl WorldHandle {
         let o = point3("origin", &origin)?;
         let d = point3("direction", &direction)?;
         match self.inner.pick(o, d).map_err(|e| scenario_error(&e))? {
+            Some(p) => to_js(&p),
+            None => Ok(JsValue::NULL),
+        }
+    }
+
+    /// The point of the skeleton the ray from `origin` along `direction`
+    /// points at, as DH values of the current configuration:
+    /// `{ link, d, a, segment, position, distance, offset, radius }`
+    /// (`distance` along the ray, `offset` from the ray to the point, both
+    /// m), or `null` when the ray misses every link's volume (by more than
+    /// 2 cm). `{ link, d, a }` can be given to `controller.pinned`.
+    ///
+    /// # Errors
+    /// Bad vectors or a zero direction.
+    #[wasm_bindgen(js_name = pickSkeleton)]
+    pub fn pick_skeleton(&self, origin: JsValue, direction: JsValue) -> Result<JsValue, JsError> {
+        let o = point3("origin", &origin)?;
+        let d = point3("direction", &direction)?;
+        match self
+            .inner
+            .pick_skeleton(o, d)
+            .map_err(|e| scenario_error(&e))?
+        {
             Some(p) => to_js(&p),
             None => Ok(JsValue::NULL),
         }

@@ -5,9 +5,10 @@
 use glam::DVec3;
 
 use super::obstacles::ObstacleState;
-use super::{PICK_RADIUS, Pick, World};
+use super::{PICK_RADIUS, Pick, SkeletonPick, World};
 use crate::avoidance::ControllerConfig;
 use crate::avoidance::selection::Key;
+use crate::control_point::DhPoint;
 use crate::error::FieldError;
 use crate::scenario::{
     ObstacleSpec, ScenarioError, ShapeSpec, primitives, reference_point, translated,
@@ -184,6 +185,48 @@ impl World {
                 point: h.point.to_array(),
                 distance: h.distance,
             })
+        }))
+    }
+
+    /// The point of the skeleton a ray from `origin` along `direction`
+    /// points at, as DH values `(link, d', a')` of the current
+    /// configuration: the volume the ray enters first (within its radius
+    /// plus [`PICK_RADIUS`]), and on it the spine's point closest to the
+    /// ray (see [`crate::skeleton::Skeleton::ray_hit`]). `None` when the
+    /// ray misses every volume. The DH values can be given to
+    /// `controller.pinned` as they are.
+    ///
+    /// # Errors
+    /// Non-finite input or a zero direction.
+    pub fn pick_skeleton(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+    ) -> Result<Option<SkeletonPick>, ScenarioError> {
+        let origin = crate::error::finite3("origin", origin)?;
+        let direction = crate::error::finite3("direction", direction)?;
+        if direction.try_normalize().is_none() {
+            return Err(FieldError::new("direction", "must not be zero").into());
+        }
+        let Some(hit) = self.skeleton.ray_hit(origin, direction, PICK_RADIUS) else {
+            return Ok(None);
+        };
+        let dh = DhPoint::from_skeleton(
+            &self.robot,
+            &self.frames,
+            &self.skeleton,
+            hit.segment,
+            hit.t,
+        )?;
+        Ok(Some(SkeletonPick {
+            link: dh.link,
+            d: dh.d,
+            a: dh.a,
+            segment: hit.segment,
+            position: dh.position(&self.robot, &self.frames).to_array(),
+            distance: hit.distance,
+            offset: hit.offset,
+            radius: hit.radius,
         }))
     }
 

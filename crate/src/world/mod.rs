@@ -52,7 +52,8 @@ mod uncertainty;
 use obstacles::ObstacleState;
 pub use probe::StepProbe;
 pub use state::{
-    ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonState, Uncertainty, WorldState,
+    ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick, SkeletonState,
+    Uncertainty, WorldState,
 };
 use track::Tracker;
 pub use uncertainty::Risk;

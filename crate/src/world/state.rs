@@ -149,6 +149,31 @@ pub struct Pick {
     pub distance: f64,
 }
 
+/// The result of [`World::pick_skeleton`]: the point of the skeleton's
+/// spine closest to a ray, as DH values of the shorter manipulator (the
+/// form `controller.pinned` takes).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct SkeletonPick {
+    /// Link (1-based DH row; rows of branches follow the main chain).
+    pub link: usize,
+    /// DH value `d'` (m).
+    pub d: f64,
+    /// DH value `a'` (m).
+    pub a: f64,
+    /// Index of the skeleton segment.
+    pub segment: usize,
+    /// Position of the point (m), computed from the DH values.
+    pub position: [f64; 3],
+    /// Distance along the ray from its origin to its closest approach (m).
+    pub distance: f64,
+    /// Distance between the ray and the point (m); at most `radius` plus
+    /// [`super::PICK_RADIUS`].
+    pub offset: f64,
+    /// Radius of the link's volume at the point (m).
+    pub radius: f64,
+}
+
 impl World {
     /// A snapshot of everything a viewer needs, with every event kept (a
     /// viewer polling each frame should use [`World::state_since`]).

@@ -165,7 +165,10 @@ impl World {
             };
             let (dh, radius) = if let Key::Pinned(k) = key {
                 let Some(p) = cfg.pinned.get(k) else { continue };
-                (*p, self.robot.joints[p.link - 1].radius[0])
+                (
+                    p.clamped(&self.frames),
+                    self.robot.joints[p.link - 1].radius[0],
+                )
             } else {
                 let pt = tr.mover.point();
                 let (dh, _) = dh_motion(&self.robot, &self.frames, &self.skeleton, pt, 0.0, 0.0)?;
