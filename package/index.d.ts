@@ -369,6 +369,8 @@ export interface WorldState {
   events: TraceEvent[];
   timeToCollision?: number;
   stopped: boolean;
+  /** Where the sliding point of each point task is now (m), in task order; empty without point tasks. */
+  slidingPoints: Vec3[];
 }
 
 export interface PickResult {

@@ -10,7 +10,18 @@ import { PALETTE, rotateShape, scaleShape, shapeCenter, translateShape } from '.
 import { downloadScenario } from './scenario-io.js';
 import { buildDependability, refreshDependability } from './dependability.js';
 
+/**
+ * The presets offered before the library is loaded; `fillPresets` replaces
+ * them with the library's own list (`presetNames()`).
+ */
 export const PRESETS = ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm'];
+
+/** Offers the library's presets (`names`), then the DH table. */
+export function fillPresets(p, names) {
+  const current = p.preset.value;
+  p.preset.replaceChildren(...names.map((n) => h('option', { value: n }, n)), h('option', { value: 'custom' }, 'custom (DH table)'));
+  p.preset.value = names.includes(current) || current === 'custom' ? current : 'custom';
+}
 
 /** A decimal number as a person types it: no hex, no `Infinity`, no blanks inside. */
 const DECIMAL = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d{1,3})?$/;

@@ -12,7 +12,7 @@ import { wireInput } from './input.js';
 import { readoutMethods } from './readouts.js';
 import { sceneMethods } from './scene-edits.js';
 import { pinMethods, withoutPins } from './pinning.js';
-import { PRESETS, applyDh, buildPanel, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
+import { PRESETS, applyDh, buildPanel, fillPresets, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
 import { TimePlot } from './plots.js';
 import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
 import { STYLE } from './style.js';
@@ -176,6 +176,8 @@ export class Playground {
     }).observe(this.canvas);
     wireInput(this);
     if (this.panel) {
+      // The library names its presets; the page does not keep its own list.
+      if (typeof this.wasm.presetNames === 'function') fillPresets(this.panel, this.wasm.presetNames());
       for (const name of this.wasm.exampleScenarioNames()) this.panel.example.append(h('option', { value: name }, name));
       this.panel.example.prepend(h('option', { value: '', disabled: true }, 'examples…'));
       this.panel.example.addEventListener('change', () => {
@@ -411,11 +413,16 @@ export class Playground {
   stepsDue(wall) {
     const dt = this.scenario.dt;
     if (!this.running || this.offscreen) return this.pendingSteps;
+    // A frame longer than 100 ms (a busy machine, a background tab) does
+    // not make the simulation race to catch up: the excess is dropped, and
+    // counted (`droppedS`), so that real time is kept or the loss is known.
+    this.droppedS = (this.droppedS ?? 0) + Math.max(0, wall - 0.1) * this.speed;
     this.acc += Math.min(wall, 0.1) * this.speed;
     let steps = Math.floor(this.acc / dt + 1e-9);
     const cap = Math.ceil(0.1 / dt);
     if (steps > cap) {
       steps = cap;
+      this.droppedS += this.acc - cap * dt;
       this.acc = 0;
     } else {
       this.acc -= steps * dt;
@@ -471,6 +478,7 @@ export class Playground {
       meanSteps: (this.stats.meanSteps ?? steps) * (1 - k) + steps * k,
       stepMs: (this.stats.stepMs ?? 0) * (1 - k) + stepMs * k,
       drawMs: (this.stats.drawMs ?? 0) * (1 - k) + drawMs * k,
+      droppedS: this.droppedS ?? 0,
       backend: this.backend,
     };
   }

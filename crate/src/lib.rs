@@ -10,7 +10,7 @@
 //! ## Architecture
 //!
 //! The crate is a pure numerical core with two thin skins, and dependencies
-//! point one way: `wasm → render → core`.
+//! point one way: `wasm → render → core` (`view` is core: plain data, tested natively).
 //!
 //! | module | what it holds | paper |
 //! |---|---|---|
@@ -26,8 +26,9 @@
 //! | [`linalg`] | small dense matrices, symmetric eigen-decomposition, the weighted damped least-squares inverse; depends on nothing else in the crate | §III-A |
 //! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
 //! | [`distance`] | primitives (`primitive/`: one file per group of figures, `spec.rs` for the JS description), closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
+//! | [`view`] | what the viewer shows as plain data: the scene built from a world's state, framing (reach, planar robots), the camera, the viewer's state apart from the GPU | — |
 //! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
-//! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground | — |
+//! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground: uploads a [`view::Scene`] and draws it, nothing else | — |
 //!
 //! One control step is a pipeline (table in [`world`]): **sense** (obstacles
 //! as sensed) → **scene query** (forward kinematics in one pass, skeleton,
@@ -66,6 +67,7 @@ pub mod scenario;
 pub mod skeleton;
 pub mod study;
 pub mod transition;
+pub mod view;
 pub mod workloads;
 pub mod world;
 

@@ -53,9 +53,9 @@ const HIGHER: &[&str] = &[
 
 /// Re-exports kept only so that old paths still compile; the code of the
 /// module does not use them. Remove an entry when its users import from the
-/// new place.
-const COMPATIBILITY_REEXPORTS: &[(&str, &str)] =
-    &[("kinematics/ik.rs", "pub use crate::control_point::clik::{")];
+/// new place (none left: `kinematics::ik` no longer re-exports `linalg` or
+/// `control_point::clik`).
+const COMPATIBILITY_REEXPORTS: &[(&str, &str)] = &[];
 
 #[test]
 fn lower_layers_name_no_higher_module() {

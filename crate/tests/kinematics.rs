@@ -8,11 +8,13 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use glam::{DAffine3, DVec3};
+use skeleton_avoidance::control_point::clik::{self, SolveOptions};
 use skeleton_avoidance::control_point::{DhPoint, a_span, d_span};
-use skeleton_avoidance::kinematics::ik::{self, Damping, Mat, SolveOptions};
+use skeleton_avoidance::kinematics::ik;
 use skeleton_avoidance::kinematics::{
     Convention, Frames, JointSpec, JointType, PoseSpec, Robot, RobotSpec, presets,
 };
+use skeleton_avoidance::linalg::{self, Damping, Mat};
 use skeleton_avoidance::rng::Rng;
 use skeleton_avoidance::skeleton::Skeleton;
 
@@ -362,7 +364,7 @@ fn clik_converges_on_reachable_targets() {
             let q0: Vec<f64> = goal_q.iter().map(|v| v + rng.range(-0.3, 0.3)).collect();
             let mut q0 = q0;
             r.clamp_to_limits(&mut q0);
-            let res = ik::solve_position(&r, &q0, &ee, target, &SolveOptions::default()).unwrap();
+            let res = clik::solve_position(&r, &q0, &ee, target, &SolveOptions::default()).unwrap();
             assert!(res.q.iter().all(|v| v.is_finite()));
             if res.converged {
                 converged += 1;
@@ -393,7 +395,7 @@ fn clik_stays_bounded_at_singularities() {
             max_steps: 500,
             ..SolveOptions::default()
         };
-        let res = ik::solve_position(&r, &[0.0, 0.0, 0.0], &ee, target, &opts).unwrap();
+        let res = clik::solve_position(&r, &[0.0, 0.0, 0.0], &ee, target, &opts).unwrap();
         assert!(res.q.iter().all(|v| v.is_finite()));
         // With λ_max = ε the damped solution obeys ‖θ̇‖ ≤ ‖K e‖ / ε everywhere;
         // the error never exceeds |target| + reach (0.9 m).
@@ -408,7 +410,7 @@ fn clik_stays_bounded_at_singularities() {
     // The damped inverse of an exactly singular Jacobian is bounded.
     let frames = r.forward(&[0.0, 0.0, 0.0]).unwrap();
     let jac = ee.jacobians(&r, &frames);
-    let inv = ik::dls_inverse(&Mat::from_columns3(&jac.j_theta), &[], Damping::default());
+    let inv = linalg::dls_inverse(&Mat::from_columns3(&jac.j_theta), &[], Damping::default());
     assert!(inv.sigma_min < 1e-9 && inv.lambda > 0.0);
     assert!(
         inv.inverse
@@ -420,7 +422,7 @@ fn clik_stays_bounded_at_singularities() {
     let frames = r.forward(&[0.3, 0.8, 0.5]).unwrap();
     let jac = ee.jacobians(&r, &frames);
     let j = Mat::from_columns3(&jac.j_theta);
-    let inv = ik::dls_inverse(&j, &[1.0, 2.0, 3.0], Damping::default());
+    let inv = linalg::dls_inverse(&j, &[1.0, 2.0, 3.0], Damping::default());
     // The z direction of a planar arm is singular by design and damped; x-y is exact.
     assert!(inv.sigma_min < 1e-12);
     // Planar: the z row is zero, so check the x-y block.
@@ -442,13 +444,13 @@ fn clik_with_a_moving_control_point_tracks_it() {
         a: 0.02,
     };
     let target = cp.position(&r, &r.forward(&q).unwrap()) + DVec3::new(-0.02, 0.0, 0.0);
-    let motion = ik::PointMotion {
+    let motion = clik::PointMotion {
         a_rate: 0.15,
         ..Default::default()
     };
     for _ in 0..1000 {
         let frames = r.forward(&q).unwrap();
-        let qd = ik::clik_first_order(
+        let qd = clik::clik_first_order(
             &r,
             &frames,
             &cp,
@@ -479,12 +481,12 @@ fn clik_with_a_moving_control_point_tracks_it() {
     let (mut a_rate, a_accel) = (0.0, 0.2);
     for _ in 0..3000 {
         let frames = r.forward_with_velocity(&q, &qdot).unwrap();
-        let motion = ik::PointMotion {
+        let motion = clik::PointMotion {
             a_rate,
             a_accel,
             ..Default::default()
         };
-        let qdd = ik::clik_second_order(
+        let qdd = clik::clik_second_order(
             &r,
             &frames,
             &cp,
@@ -640,7 +642,7 @@ fn pose_clik_reaches_position_and_orientation() {
             let goal_q = loop {
                 let g = random_q(&r, &mut rng);
                 let j6 = ik::end_effector_jacobian(&r, &r.forward(&g).unwrap(), 0).unwrap();
-                if ik::dls_inverse(&j6, &[], Damping::default()).sigma_min >= 0.05 {
+                if linalg::dls_inverse(&j6, &[], Damping::default()).sigma_min >= 0.05 {
                     break g;
                 }
             };

@@ -28,8 +28,9 @@ use glam::{DQuat, DVec3};
 
 use super::{ActivePoint, ControllerConfig, TaskReference, activation, repulsion_speed};
 use crate::error::FieldError;
-use crate::kinematics::ik::{Mat, dls_inverse, end_effector_jacobian, orientation_error};
+use crate::kinematics::ik::{end_effector_jacobian, orientation_error};
 use crate::kinematics::{Frames, Robot};
+use crate::linalg::{Mat, dls_inverse};
 
 /// Task-priority resolution: each level `(J, r)` is satisfied in the null
 /// space of the ones before (weighted damped least squares); `rest` (if any)
@@ -368,7 +369,7 @@ pub fn clik2_control(
 mod tests {
     use super::*;
     use crate::control_point::DhPoint;
-    use crate::kinematics::ik::PointMotion;
+    use crate::control_point::PointMotion;
     use crate::kinematics::presets;
 
     /// The fade survives the pseudoinverse: with the tasks asking for rest,

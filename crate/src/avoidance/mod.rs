@@ -34,8 +34,9 @@ use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
 use crate::control_point::DhPoint;
+use crate::control_point::PointMotion;
 use crate::error::{FieldError, non_negative, positive};
-use crate::kinematics::ik::{Damping, PointMotion};
+use crate::linalg::Damping;
 
 pub mod control;
 pub mod limits;

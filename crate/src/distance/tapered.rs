@@ -85,18 +85,17 @@ pub(crate) fn point_tapered(p: DVec3, tc: &TaperedCapsule) -> Closest {
     }
 }
 
-/// Tapered capsule (A, radii differ) against any primitive (B).
-pub(crate) fn tapered_vs(
+/// The cases of [`tapered_vs`] that need no search along the axis: a point,
+/// a sphere, and a non-convex polygon (the union of its convex triangles);
+/// `None` for the others.
+fn tapered_direct(
     tc: &TaperedCapsule,
     other: &Primitive,
-) -> Result<Distance, DistanceError> {
-    match other {
-        Primitive::Point(p) => return Ok(point_tapered(*p, tc).flipped().inflate(0.0, 0.0)),
-        Primitive::Sphere(s) => {
-            return Ok(point_tapered(s.center, tc).flipped().inflate(0.0, s.radius));
-        }
+) -> Result<Option<Distance>, DistanceError> {
+    Ok(Some(match other {
+        Primitive::Point(p) => point_tapered(*p, tc).flipped().inflate(0.0, 0.0),
+        Primitive::Sphere(s) => point_tapered(s.center, tc).flipped().inflate(0.0, s.radius),
         Primitive::Polygon(poly) if !poly.is_convex() => {
-            // The union of its triangles, each convex.
             let v = poly.vertices();
             let mut best: Option<Distance> = None;
             for [i, j, k] in poly.triangles() {
@@ -106,13 +105,24 @@ pub(crate) fn tapered_vs(
                     best = Some(d);
                 }
             }
-            if let Some(b) = best {
-                return Ok(b);
+            match best {
+                Some(b) => b,
+                None => {
+                    segment_polygon(tc.segment.a, tc.segment.b, poly).inflate(tc.max_radius(), 0.0)
+                }
             }
-            let c = segment_polygon(tc.segment.a, tc.segment.b, poly);
-            return Ok(c.inflate(tc.max_radius(), 0.0));
         }
-        _ => {}
+        _ => return Ok(None),
+    }))
+}
+
+/// Tapered capsule (A, radii differ) against any primitive (B).
+pub(crate) fn tapered_vs(
+    tc: &TaperedCapsule,
+    other: &Primitive,
+) -> Result<Distance, DistanceError> {
+    if let Some(d) = tapered_direct(tc, other)? {
+        return Ok(d);
     }
     // Signed distance from an axis point to B, with the witness pair.
     let measure = |p: DVec3| -> Result<(f64, Closest), DistanceError> {

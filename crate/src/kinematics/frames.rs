@@ -69,17 +69,7 @@ impl Frames {
 
     pub(super) fn compute(&mut self, robot: &Robot, q: &[f64], qdot: Option<&[f64]>) {
         let n = robot.dof();
-        self.transforms.clear();
-        self.starts.clear();
-        self.mids.clear();
-        self.d.clear();
-        self.axis.clear();
-        self.axis_point.clear();
-        self.a_direction.clear();
-        self.end_effectors.clear();
-        self.omega.clear();
-        self.velocity.clear();
-        self.qdot.clear();
+        self.clear();
         self.convention = Some(robot.convention);
         self.transforms.push(robot.base);
         if let Some(qd) = qdot {
@@ -100,86 +90,154 @@ impl Frames {
                 JointType::Revolute => (joint.theta + q[i], joint.d),
                 JointType::Prismatic => (joint.theta, joint.d + q[i]),
             };
-            let (st, ct) = crate::math::sin_cos(theta);
-            if self.alpha_memo.len() <= i {
-                self.alpha_memo.push((f64::NAN, 0.0, 0.0));
-            }
-            let memo = &mut self.alpha_memo[i];
-            if memo.0.to_bits() != joint.alpha.to_bits() {
-                let (s, c) = crate::math::sin_cos(joint.alpha);
-                *memo = (joint.alpha, s, c);
-            }
-            let (sa, ca) = (memo.1, memo.2);
-            let xs = start.matrix3.x_axis;
-            let ys = start.matrix3.y_axis;
-            let zs = start.matrix3.z_axis;
-            let o0 = start.translation;
-            let (mid, x, y, z, origin) = match robot.convention {
-                Convention::Standard => {
-                    // Rz(θ) Tz(d) Tx(a) Rx(α)
-                    let x = ct * xs + st * ys;
-                    let yp = -st * xs + ct * ys;
-                    let mid = o0 + d * zs;
-                    let origin = mid + joint.a * x;
-                    (mid, x, ca * yp + sa * zs, -sa * yp + ca * zs, origin)
-                }
-                Convention::Modified => {
-                    // Rx(α) Tx(a) Rz(θ) Tz(d)
-                    let yp = ca * ys + sa * zs;
-                    let z = -sa * ys + ca * zs;
-                    let mid = o0 + joint.a * xs;
-                    let x = ct * xs + st * yp;
-                    let y = -st * xs + ct * yp;
-                    (mid, x, y, z, mid + d * z)
-                }
-            };
-            let frame = DAffine3 {
-                matrix3: DMat3::from_cols(x, y, z),
-                translation: origin,
-            };
+            let alpha = self.alpha_sin_cos(i, joint.alpha);
+            let row = Row::new(robot.convention, &start, joint.a, d, theta, alpha);
             if let Some(qd) = qdot {
-                let w_s = self.omega[joint.parent];
-                let v_s = self.velocity[joint.parent];
-                let rate = qd[i];
-                let (w, v) = match (robot.convention, joint.kind) {
-                    (Convention::Standard, JointType::Revolute) => {
-                        let w = w_s + rate * zs;
-                        (w, v_s + w_s.cross(mid - o0) + w.cross(origin - mid))
-                    }
-                    (Convention::Standard, JointType::Prismatic) => {
-                        (w_s, v_s + w_s.cross(origin - o0) + rate * zs)
-                    }
-                    (Convention::Modified, JointType::Revolute) => {
-                        (w_s + rate * z, v_s + w_s.cross(origin - o0))
-                    }
-                    (Convention::Modified, JointType::Prismatic) => {
-                        (w_s, v_s + w_s.cross(origin - o0) + rate * z)
-                    }
-                };
+                let (w, v) = row.velocity(
+                    (robot.convention, joint.kind),
+                    (self.omega[joint.parent], self.velocity[joint.parent]),
+                    qd[i],
+                );
                 self.omega.push(w);
                 self.velocity.push(v);
             }
             self.starts.push(start);
-            self.mids.push(mid);
+            self.mids.push(row.mid);
             self.d.push(d);
             match robot.convention {
                 Convention::Standard => {
-                    self.axis.push(zs);
-                    self.axis_point.push(o0);
-                    self.a_direction.push(x);
+                    self.axis.push(row.zs);
+                    self.axis_point.push(row.o0);
+                    self.a_direction.push(row.x);
                 }
                 Convention::Modified => {
-                    self.axis.push(z);
-                    self.axis_point.push(mid);
-                    self.a_direction.push(xs);
+                    self.axis.push(row.z);
+                    self.axis_point.push(row.mid);
+                    self.a_direction.push(row.xs);
                 }
             }
-            self.transforms.push(frame);
+            self.transforms.push(DAffine3 {
+                matrix3: DMat3::from_cols(row.x, row.y, row.z),
+                translation: row.origin,
+            });
         }
         for chain in &robot.chains {
             self.end_effectors
                 .push(self.transforms[chain.last] * chain.tool);
         }
         debug_assert_eq!(self.transforms.len(), n + 1);
+    }
+
+    /// Empties every list (keeping their storage and the `α` memo).
+    fn clear(&mut self) {
+        self.transforms.clear();
+        self.starts.clear();
+        self.mids.clear();
+        self.d.clear();
+        self.axis.clear();
+        self.axis_point.clear();
+        self.a_direction.clear();
+        self.end_effectors.clear();
+        self.omega.clear();
+        self.velocity.clear();
+        self.qdot.clear();
+    }
+
+    /// `(sin α, cos α)` of row `i`, computed again only when `α` changed.
+    fn alpha_sin_cos(&mut self, i: usize, alpha: f64) -> (f64, f64) {
+        if self.alpha_memo.len() <= i {
+            self.alpha_memo.push((f64::NAN, 0.0, 0.0));
+        }
+        let memo = &mut self.alpha_memo[i];
+        if memo.0.to_bits() != alpha.to_bits() {
+            let (s, c) = crate::math::sin_cos(alpha);
+            *memo = (alpha, s, c);
+        }
+        (memo.1, memo.2)
+    }
+}
+
+/// One DH row applied to its start frame (axes `xs`, `zs`, origin `o0`):
+/// the point between its two translations, the new axes and origin.
+struct Row {
+    xs: DVec3,
+    zs: DVec3,
+    o0: DVec3,
+    mid: DVec3,
+    x: DVec3,
+    y: DVec3,
+    z: DVec3,
+    origin: DVec3,
+}
+
+impl Row {
+    fn new(
+        convention: Convention,
+        start: &DAffine3,
+        a: f64,
+        d: f64,
+        theta: f64,
+        (sa, ca): (f64, f64),
+    ) -> Self {
+        let (st, ct) = crate::math::sin_cos(theta);
+        let xs = start.matrix3.x_axis;
+        let ys = start.matrix3.y_axis;
+        let zs = start.matrix3.z_axis;
+        let o0 = start.translation;
+        let (mid, x, y, z, origin) = match convention {
+            Convention::Standard => {
+                // Rz(θ) Tz(d) Tx(a) Rx(α)
+                let x = ct * xs + st * ys;
+                let yp = -st * xs + ct * ys;
+                let mid = o0 + d * zs;
+                let origin = mid + a * x;
+                (mid, x, ca * yp + sa * zs, -sa * yp + ca * zs, origin)
+            }
+            Convention::Modified => {
+                // Rx(α) Tx(a) Rz(θ) Tz(d)
+                let yp = ca * ys + sa * zs;
+                let z = -sa * ys + ca * zs;
+                let mid = o0 + a * xs;
+                let x = ct * xs + st * yp;
+                let y = -st * xs + ct * yp;
+                (mid, x, y, z, mid + d * z)
+            }
+        };
+        Self {
+            xs,
+            zs,
+            o0,
+            mid,
+            x,
+            y,
+            z,
+            origin,
+        }
+    }
+
+    /// Angular and linear velocity of the row's frame from its start
+    /// frame's `(w_s, v_s)` and the joint rate.
+    fn velocity(
+        &self,
+        kind: (Convention, JointType),
+        (w_s, v_s): (DVec3, DVec3),
+        rate: f64,
+    ) -> (DVec3, DVec3) {
+        let (o0, mid, origin) = (self.o0, self.mid, self.origin);
+        match kind {
+            (Convention::Standard, JointType::Revolute) => {
+                let w = w_s + rate * self.zs;
+                (w, v_s + w_s.cross(mid - o0) + w.cross(origin - mid))
+            }
+            (Convention::Standard, JointType::Prismatic) => {
+                (w_s, v_s + w_s.cross(origin - o0) + rate * self.zs)
+            }
+            (Convention::Modified, JointType::Revolute) => {
+                (w_s + rate * self.z, v_s + w_s.cross(origin - o0))
+            }
+            (Convention::Modified, JointType::Prismatic) => {
+                (w_s, v_s + w_s.cross(origin - o0) + rate * self.z)
+            }
+        }
     }
 }

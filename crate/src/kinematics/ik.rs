@@ -4,19 +4,14 @@
 //! The damped least-squares pseudoinverse and the matrix type live in
 //! [`crate::linalg`]; CLIK of a control point that moves along its link
 //! (paper eq. 4) lives beside the control points in
-//! [`crate::control_point::clik`]. Both are re-exported here so that the
-//! paths `kinematics::ik::{Mat, dls_inverse, PointMotion, …}` keep working.
+//! `control_point::clik`.
 
 use glam::{DQuat, DVec3};
 
 use super::{Frames, JointType, Robot};
 use crate::error::FieldError;
 
-pub use crate::linalg::{Damping, DlsInverse, Mat, dls_inverse, symmetric_eigen};
-// Compatibility re-export (not a dependency of this module's code).
-pub use crate::control_point::clik::{
-    PointMotion, SolveOptions, SolveResult, clik_first_order, clik_second_order, solve_position,
-};
+use crate::linalg::{Damping, Mat, dls_inverse};
 
 /// Geometric Jacobian (6 × n: linear rows, then angular) of the end effector
 /// of chain `chain` (0 = main chain).

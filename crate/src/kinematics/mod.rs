@@ -199,7 +199,9 @@ impl Robot {
     /// Whether the segments of two rows touch by construction: the same row,
     /// one starting where the other ends (rows without segments in between
     /// are skipped), or siblings starting from the same node (two arms on
-    /// one torso). The self-collision query skips adjacent rows.
+    /// one torso); the base is row 0. This is the crate's one definition of
+    /// adjacent links: a `World`'s self-collision query skips every pair
+    /// within two hops of it.
     #[must_use]
     pub fn adjacent(&self, i: usize, j: usize) -> bool {
         let n = self.dof();

@@ -4,6 +4,14 @@
 // Lighting is computed in linear space; the result is encoded back to sRGB here when the surface format is
 // not an sRGB one (`globals.viewport.z == 1`), so the pixels are the same on
 // WebGPU and WebGL2 whichever format the surface ends up with.
+//
+// Everything is lit and encoded per vertex and the fragment shaders only
+// pass the colour on: a software rasteriser (SwiftShader) spends most of a
+// frame shading the fragments of large translucent volumes, and three `pow`
+// per fragment were most of that. Flat triangles, lines and the grid have
+// one colour per primitive, so nothing changes for them; the capsule
+// template is fine enough (18 sectors, 7 rings per cap) that lighting its
+// vertices reads the same as lighting its pixels.
 
 struct Globals {
     view_proj: mat4x4<f32>,
@@ -40,8 +48,8 @@ fn encode(linear: vec3<f32>) -> vec3<f32> {
 
 struct SolidOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) normal: vec3<f32>,
-    @location(1) color: vec4<f32>,
+    // Lit and encoded.
+    @location(0) color: vec4<f32>,
 };
 
 @vertex
@@ -75,20 +83,18 @@ fn vs_solid(
         centre = p1_r1.xyz;
         radius = p1_r1.w;
     }
+    let key = max(dot(n, globals.key_light.xyz), 0.0);
+    let head = max(dot(n, globals.to_camera.xyz), 0.0);
+    let light = 0.28 + 0.47 * key + 0.35 * head;
     var out: SolidOut;
     out.clip = globals.view_proj * vec4<f32>(centre + radius * n, 1.0);
-    out.normal = n;
-    out.color = vec4<f32>(srgb_to_linear(color.rgb), color.a);
+    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb) * light), color.a);
     return out;
 }
 
 @fragment
 fn fs_solid(in: SolidOut) -> @location(0) vec4<f32> {
-    let n = normalize(in.normal);
-    let key = max(dot(n, globals.key_light.xyz), 0.0);
-    let head = max(dot(n, globals.to_camera.xyz), 0.0);
-    let light = 0.28 + 0.47 * key + 0.35 * head;
-    return vec4<f32>(encode(in.color.rgb * light), in.color.a);
+    return in.color;
 }
 
 // ---- Lines: screen-space quads of a given width in pixels ----
@@ -123,21 +129,21 @@ fn vs_line(
     }
     var out: LineOut;
     out.clip = vec4<f32>(c.xy + normal_px / half_px * c.w, c.z, c.w);
-    out.color = vec4<f32>(srgb_to_linear(color.rgb), color.a);
+    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb)), color.a);
     return out;
 }
 
 @fragment
 fn fs_line(in: LineOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(encode(in.color.rgb), in.color.a);
+    return in.color;
 }
 
 // ---- Meshes: flat triangles lit from both sides ----
 
 struct MeshOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) normal: vec3<f32>,
-    @location(1) color: vec4<f32>,
+    // Lit (triangles) or not (hairlines), and encoded.
+    @location(0) color: vec4<f32>,
 };
 
 @vertex
@@ -146,29 +152,36 @@ fn vs_mesh(
     @location(1) normal: vec3<f32>,
     @location(2) color: vec4<f32>,
 ) -> MeshOut {
-    var out: MeshOut;
-    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
-    out.normal = normal;
-    out.color = vec4<f32>(srgb_to_linear(color.rgb), color.a);
-    return out;
-}
-
-@fragment
-fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
-    // Light whichever face is seen: turn the normal towards the camera.
-    var n = normalize(in.normal);
+    // Light whichever face is seen: turn the normal towards the camera. The
+    // normal is the face's, the same at its three corners.
+    var n = normalize(normal);
     if dot(n, globals.to_camera.xyz) < 0.0 {
         n = -n;
     }
     let key = max(dot(n, globals.key_light.xyz), 0.0);
     let head = max(dot(n, globals.to_camera.xyz), 0.0);
     let light = 0.35 + 0.4 * key + 0.3 * head;
-    return vec4<f32>(encode(in.color.rgb * light), in.color.a);
+    var out: MeshOut;
+    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
+    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb) * light), color.a);
+    return out;
+}
+
+@fragment
+fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
+    return in.color;
 }
 
 // ---- Hairlines (the ground grid): one pixel wide, unlit ----
 
-@fragment
-fn fs_hair(in: MeshOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(encode(in.color.rgb), in.color.a);
+@vertex
+fn vs_hair(
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) color: vec4<f32>,
+) -> MeshOut {
+    var out: MeshOut;
+    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
+    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb)), color.a);
+    return out;
 }

@@ -165,43 +165,16 @@ fn translate3(p: [f64; 3], t: DVec3) -> [f64; 3] {
     (DVec3::from_array(p) + t).to_array()
 }
 
-/// The point a motion moves and `moveObstacle` places: the centre of
-/// spheres, boxes, rectangles and disks, the middle of segments and
+/// The point a motion moves and `moveObstacle` places: the floor point of
+/// a human, [`PrimitiveSpec::reference_point`] of a primitive (the centre
+/// of spheres, boxes, rectangles and disks, the middle of segments and
 /// capsules, the vertex mean of polygons and hulls, the point of a plane
-/// closest to the origin, the floor point of a human.
+/// closest to the origin).
 #[must_use]
 pub fn reference_point(shape: &ShapeSpec) -> DVec3 {
-    let v = DVec3::from_array;
-    let mean = |pts: &[[f64; 3]]| {
-        if pts.is_empty() {
-            DVec3::ZERO
-        } else {
-            pts.iter().map(|p| v(*p)).sum::<DVec3>() / pts.len() as f64
-        }
-    };
     match shape {
-        ShapeSpec::Human(h) => v(h.position),
-        ShapeSpec::Primitive(p) => match p {
-            PrimitiveSpec::Point(s) => v(s.p),
-            PrimitiveSpec::Segment(s) => (v(s.a) + v(s.b)) * 0.5,
-            PrimitiveSpec::Sphere(s) => v(s.center),
-            PrimitiveSpec::Capsule(s) => (v(s.a) + v(s.b)) * 0.5,
-            PrimitiveSpec::TaperedCapsule(s) => (v(s.a) + v(s.b)) * 0.5,
-            PrimitiveSpec::Plane(s) => {
-                let n = v(s.normal);
-                let l2 = n.length_squared();
-                if l2 > 0.0 {
-                    -s.offset * n / l2
-                } else {
-                    DVec3::ZERO
-                }
-            }
-            PrimitiveSpec::Rectangle(s) => v(s.center),
-            PrimitiveSpec::Disk(s) => v(s.center),
-            PrimitiveSpec::Polygon(s) => mean(&s.vertices),
-            PrimitiveSpec::Box(s) => v(s.center),
-            PrimitiveSpec::ConvexHull(s) => mean(&s.points),
-        },
+        ShapeSpec::Human(h) => DVec3::from_array(h.position),
+        ShapeSpec::Primitive(p) => p.reference_point(),
     }
 }
 

@@ -105,8 +105,8 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::control_point::DhPoint;
+use crate::control_point::PointMotion;
 use crate::error::FieldError;
-use crate::kinematics::ik::PointMotion;
 use crate::kinematics::{Convention, Frames, Robot};
 use crate::skeleton::{Skeleton, SpinePart};
 

@@ -22,6 +22,4 @@ pub fn start() {
 }
 
 #[cfg(feature = "render")]
-mod draw;
-#[cfg(feature = "render")]
 mod viewer;

@@ -2,10 +2,11 @@
 //!
 //! JS owns the viewer (and frees it); it sets the robot and the joint vector,
 //! forwards pointer input to the camera, and calls `render()` once per
-//! animation frame. The per-frame geometry is built here, from the skeleton,
-//! and never crosses to JS.
+//! animation frame. This file converts and checks the arguments; what is
+//! drawn and how the camera moves is [`crate::view::Stage`]'s, the GPU is
+//! [`Renderer`]'s. The per-frame geometry never crosses to JS.
 
-use glam::{DAffine3, Vec3};
+use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
@@ -13,10 +14,8 @@ use wasm_bindgen::prelude::*;
 use super::convert::{
     f64_vec, finite_arg, from_js, js_error, object_from_js, robot as robot_from_js, to_js,
 };
-use super::draw::{DrawOptions, DrawState, SegmentView, SkeletonView, build_scene};
-use crate::kinematics::{Frames, Robot};
-use crate::render::{BackendRequest, Camera, Renderer, Scene, View};
-use crate::skeleton::Skeleton;
+use crate::render::{BackendRequest, Renderer};
+use crate::view::{DrawState, Stage, parse_view};
 
 /// Options of `Viewer.create`.
 #[derive(Debug, Default, Deserialize)]
@@ -30,34 +29,6 @@ struct ViewerOptions {
     /// 4× multisampling (default: on unless the adapter is a software
     /// rasteriser).
     antialias: Option<bool>,
-}
-
-/// What `setDisplay` toggles.
-#[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
-struct Display {
-    /// The translucent volumes around the skeleton segments.
-    volumes: bool,
-    /// The skeleton nodes as small spheres.
-    nodes: bool,
-    /// The DH frames' axes.
-    axes: bool,
-    /// The ground grid.
-    grid: bool,
-    /// Arrow length per unit of repulsion (s: metres of arrow per m/s).
-    arrow_scale: f64,
-}
-
-impl Default for Display {
-    fn default() -> Self {
-        Self {
-            volumes: true,
-            nodes: true,
-            axes: false,
-            grid: true,
-            arrow_scale: 0.4,
-        }
-    }
 }
 
 /// What `state()` reports (for tests and tooling, not for every frame).
@@ -100,26 +71,7 @@ struct Ray {
 #[derive(Debug)]
 pub struct Viewer {
     renderer: Renderer,
-    camera: Camera,
-    scene: Scene,
-    display: Display,
-    fixed_view: Option<View>,
-    /// The view `"auto"` stands for with the current robot.
-    auto_view: View,
-    robot: Option<Robot>,
-    q: Vec<f64>,
-    skeleton: Skeleton,
-    frames: Vec<DAffine3>,
-    /// The world last given to `drawWorld` / `drawState` (replaces the
-    /// robot's own skeleton while set).
-    world: Option<DrawState>,
-    /// Id of the highlighted obstacle.
-    selected: Option<String>,
-    /// Centre of the robot's reach (planes are drawn around it).
-    center: glam::DVec3,
-    /// Radius of the robot's reach (m).
-    reach: f64,
-    dirty: bool,
+    stage: Stage,
 }
 
 #[wasm_bindgen]
@@ -153,29 +105,15 @@ impl Viewer {
             })?,
         };
         let fixed_view = match options.view.as_deref() {
-            None | Some("auto") => None,
-            Some(name) => Some(View::parse(name).ok_or_else(|| view_error("options.view", name))?),
+            None => None,
+            Some(name) => parse_view("options.view", name).map_err(|e| js_error(&e))?,
         };
         let renderer = Renderer::new(canvas, request, options.antialias)
             .await
             .map_err(|e| JsError::new(&e.to_string()))?;
-        let camera = Camera::framing(Vec3::ZERO, 1.0, fixed_view.unwrap_or(View::Orbit));
         Ok(Viewer {
             renderer,
-            camera,
-            scene: Scene::new(),
-            display: Display::default(),
-            fixed_view,
-            auto_view: View::Orbit,
-            robot: None,
-            q: Vec::new(),
-            skeleton: Skeleton::default(),
-            frames: Vec::new(),
-            world: None,
-            selected: None,
-            center: glam::DVec3::ZERO,
-            reach: 1.0,
-            dirty: true,
+            stage: Stage::new(fixed_view),
         })
     }
 
@@ -188,7 +126,7 @@ impl Viewer {
     /// Number of joints of the current robot (0 before `setRobot`).
     #[wasm_bindgen(getter)]
     pub fn dof(&self) -> usize {
-        self.q.len()
+        self.stage.q().len()
     }
 
     /// Sets the robot: a robot spec object (see the JS contract) or
@@ -200,53 +138,32 @@ impl Viewer {
     #[wasm_bindgen(js_name = setRobot)]
     pub fn set_robot(&mut self, spec: JsValue) -> Result<(), JsError> {
         let robot = robot_from_js(spec)?;
-        // Zero, or the nearest value within the joint limits.
-        let mut q = vec![0.0; robot.dof()];
-        robot.clamp_to_limits(&mut q);
-        let f = robot.forward(&q).map_err(|e| js_error(&e))?;
-        let skeleton = Skeleton::build(&robot, &f);
-        let (center, reach) = reach(&robot, &f);
-        let frames = f.transforms;
-        self.auto_view = if is_planar(&frames) {
-            View::Top
-        } else {
-            View::Orbit
-        };
-        let view = self.fixed_view.unwrap_or(self.auto_view);
-        self.camera = Camera::framing(center.as_vec3(), reach as f32, view);
-        self.robot = Some(robot);
-        self.q = q;
-        self.frames = frames;
-        self.skeleton = skeleton;
-        self.center = center;
-        self.reach = reach;
-        self.world = None;
-        self.dirty = true;
-        Ok(())
+        self.stage.set_robot(robot).map_err(|e| js_error(&e))
     }
 
     /// Draws a world state given as a plain object: `{ skeleton: { nodes,
-    /// segments }, obstacles?: [{ id, shape }], controlPoints?: [{ position,
-    /// witness?, repulsion?, transitioning? }], uncertainty?: [{ obstacle,
-    /// radius }] }` (the shape of `World.state()`; other fields are ignored).
-    /// Replaces the robot's own skeleton until the next `setRobot`.
-    /// For a live world prefer `drawWorld`, which copies nothing through JS.
+    /// segments }, obstacles?: [{ id, shape, parts? }], controlPoints?: [{
+    /// position, witness?, repulsion?, transitioning? }], uncertainty?: [{
+    /// obstacle, radius }], slidingPoints?: [[x, y, z]] }` (the shape of
+    /// `World.state()`; other fields are ignored). Replaces the robot's own
+    /// skeleton until the next `setRobot`. For a live world prefer
+    /// `drawWorld`, which copies nothing through JS.
     ///
     /// # Errors
     /// An `Error` naming the field when the object does not have that shape.
     #[wasm_bindgen(js_name = drawState)]
     pub fn draw_state(&mut self, state: JsValue) -> Result<(), JsError> {
         let state: DrawState = from_js("state", state)?;
-        self.world = Some(state);
-        self.dirty = true;
+        self.stage.draw(state);
         Ok(())
     }
 
     /// Draws the current state of a simulated `World`: its skeleton,
-    /// obstacles, control points, distance lines, repulsion arrows and
-    /// uncertainty regions. Call it once per frame after stepping; the
-    /// geometry is read in Rust and never crosses to JS. Replaces the
-    /// robot's own skeleton until the next `setRobot`.
+    /// obstacles, control points, distance lines, repulsion arrows,
+    /// uncertainty regions and the sliding points of point tasks. Call it
+    /// once per frame after stepping; the geometry is read in Rust and never
+    /// crosses to JS. Replaces the robot's own skeleton until the next
+    /// `setRobot`.
     ///
     /// ```js
     /// world.advance(0.001, 16);
@@ -258,8 +175,7 @@ impl Viewer {
         let core = world.world();
         // Without events: the viewer does not draw them.
         let state = core.state_since(core.event_count());
-        self.world = Some(DrawState::from_world(&state));
-        self.dirty = true;
+        self.stage.draw(DrawState::from(state));
     }
 
     /// Highlights the obstacle with this id (`null` or `undefined`: none).
@@ -268,7 +184,7 @@ impl Viewer {
     /// An `Error` when `id` is neither a string nor null.
     #[wasm_bindgen(js_name = setSelected)]
     pub fn set_selected(&mut self, id: JsValue) -> Result<(), JsError> {
-        self.selected = if id.is_null() || id.is_undefined() {
+        let id = if id.is_null() || id.is_undefined() {
             None
         } else {
             Some(
@@ -276,7 +192,7 @@ impl Viewer {
                     .ok_or_else(|| JsError::new("setSelected: expected a string id or null"))?,
             )
         };
-        self.dirty = true;
+        self.stage.set_selected(id);
         Ok(())
     }
 
@@ -296,11 +212,10 @@ impl Viewer {
             finite_arg(&format!("point[{k}]"), c)?;
         }
         let (width, height) = self.renderer.size();
-        let projected = self.camera.project(
-            glam::Vec3::new(x as f32, y as f32, z as f32),
-            width as f32,
-            height as f32,
-        );
+        let projected =
+            self.stage
+                .camera()
+                .project(DVec3::new(x, y, z).as_vec3(), width as f32, height as f32);
         to_js(&projected)
     }
 
@@ -308,7 +223,10 @@ impl Viewer {
     /// target, world frame): the normal of the view-aligned drag plane.
     #[wasm_bindgen(js_name = viewDirection)]
     pub fn view_direction(&self) -> Vec<f64> {
-        (-self.camera.backward()).as_dvec3().to_array().to_vec()
+        (-self.stage.camera().backward())
+            .as_dvec3()
+            .to_array()
+            .to_vec()
     }
 
     /// Sets the joint vector (rad for revolute joints, m for prismatic ones)
@@ -319,16 +237,10 @@ impl Viewer {
     /// is not a finite number (`q[2]: not a finite number`).
     #[wasm_bindgen(js_name = setJoints)]
     pub fn set_joints(&mut self, q: JsValue) -> Result<(), JsError> {
-        let Some(robot) = &self.robot else {
-            return Err(JsError::new("setJoints: no robot; call setRobot first"));
-        };
+        // Checked first so that the message names the missing robot.
+        self.stage.require_robot().map_err(|e| js_error(&e))?;
         let q = f64_vec("q", &q)?;
-        let f = robot.forward(&q).map_err(|e| js_error(&e))?;
-        self.skeleton = Skeleton::build(robot, &f);
-        self.frames = f.transforms;
-        self.q = q;
-        self.dirty = true;
-        Ok(())
+        self.stage.set_joints(q).map_err(|e| js_error(&e))
     }
 
     /// Chooses what is drawn: `{ volumes?, nodes?, axes?, grid?,
@@ -340,8 +252,7 @@ impl Viewer {
     /// An `Error` naming an unknown or mistyped field.
     #[wasm_bindgen(js_name = setDisplay)]
     pub fn set_display(&mut self, display: JsValue) -> Result<(), JsError> {
-        self.display = object_from_js("display", display)?;
-        self.dirty = true;
+        self.stage.set_display(object_from_js("display", display)?);
         Ok(())
     }
 
@@ -353,18 +264,15 @@ impl Viewer {
     #[wasm_bindgen(js_name = setView)]
     pub fn set_view(&mut self, name: JsValue) -> Result<(), JsError> {
         let name = super::boundary::string_arg("view", &name)?;
-        self.camera.view = match name.as_str() {
-            "auto" => self.auto_view,
-            _ => View::parse(&name).ok_or_else(|| view_error("view", &name))?,
-        };
-        self.dirty = true;
+        let view = parse_view("view", &name).map_err(|e| js_error(&e))?;
+        self.stage.set_view(view);
         Ok(())
     }
 
     /// The current view's name.
     #[wasm_bindgen(getter)]
     pub fn view(&self) -> String {
-        self.camera.view.name().to_owned()
+        self.stage.camera().view.name().to_owned()
     }
 
     /// Orbits the 3D camera by a pointer drag of `dx`, `dy` pixels (ignored
@@ -374,8 +282,7 @@ impl Viewer {
     /// An `Error` when a delta is not finite.
     pub fn orbit(&mut self, dx: f64, dy: f64) -> Result<(), JsError> {
         let (dx, dy) = (finite_arg("orbit.dx", dx)?, finite_arg("orbit.dy", dy)?);
-        self.camera.orbit(dx as f32, dy as f32);
-        self.dirty = true;
+        self.stage.orbit(dx as f32, dy as f32);
         Ok(())
     }
 
@@ -386,8 +293,7 @@ impl Viewer {
     pub fn pan(&mut self, dx: f64, dy: f64) -> Result<(), JsError> {
         let (dx, dy) = (finite_arg("pan.dx", dx)?, finite_arg("pan.dy", dy)?);
         let height = self.renderer.size().1 as f32;
-        self.camera.pan(dx as f32, dy as f32, height);
-        self.dirty = true;
+        self.stage.pan(dx as f32, dy as f32, height);
         Ok(())
     }
 
@@ -401,8 +307,7 @@ impl Viewer {
         if factor <= 0.0 {
             return Err(JsError::new("zoom.factor: must be > 0"));
         }
-        self.camera.zoom(factor as f32);
-        self.dirty = true;
+        self.stage.zoom(factor as f32);
         Ok(())
     }
 
@@ -418,18 +323,9 @@ impl Viewer {
         if !(fill > 0.0 && fill <= 1.0) {
             return Err(JsError::new("fit.fill: must be in (0, 1]"));
         }
-        let points = match &self.world {
-            Some(world) => super::draw::fit_points(world, self.center.to_array(), self.reach),
-            None => self.drawn_nodes(),
-        };
-        let points: Vec<Vec3> = points
-            .iter()
-            .map(|p| glam::DVec3::from(*p).as_vec3())
-            .collect();
         let (width, height) = self.renderer.size();
-        self.camera
-            .fit(&points, width as f32 / height.max(1) as f32, fill as f32);
-        self.dirty = true;
+        self.stage
+            .fit(fill as f32, width as f32 / height.max(1) as f32);
         Ok(())
     }
 
@@ -444,7 +340,7 @@ impl Viewer {
         }
         self.renderer
             .resize(width.round() as u32, height.round() as u32);
-        self.dirty = true;
+        self.stage.touch();
         Ok(())
     }
 
@@ -454,17 +350,17 @@ impl Viewer {
     /// # Errors
     /// An `Error` when the drawing surface is lost for good.
     pub fn render(&mut self) -> Result<(), JsError> {
-        if !self.dirty {
+        if !self.stage.is_dirty() {
             // The canvas keeps the last frame: nothing to draw.
             return Ok(());
         }
-        self.rebuild_scene();
-        self.renderer.update(&self.scene, &self.camera);
+        let camera = *self.stage.camera();
+        self.renderer.update(self.stage.scene(), &camera);
         let presented = self
             .renderer
             .render()
             .map_err(|e| JsError::new(&e.to_string()))?;
-        self.dirty = !presented;
+        self.stage.drawn(presented);
         Ok(())
     }
 
@@ -479,7 +375,8 @@ impl Viewer {
         let (x, y) = (finite_arg("x", x)?, finite_arg("y", y)?);
         let (width, height) = self.renderer.size();
         let (origin, direction) = self
-            .camera
+            .stage
+            .camera()
             .ray(x as f32, y as f32, width as f32, height as f32)
             .ok_or_else(|| JsError::new("rayAt: the camera is degenerate"))?;
         let ray = Ray {
@@ -497,134 +394,24 @@ impl Viewer {
     /// Only if the snapshot cannot be converted (not expected).
     pub fn state(&self) -> Result<JsValue, JsError> {
         let (width, height) = self.renderer.size();
-        let nodes = self.drawn_nodes();
+        let nodes = self.stage.drawn_nodes();
+        let camera = self.stage.camera();
         let state = ViewerState {
             backend: self.renderer.backend().name(),
             adapter: self.renderer.adapter_name().to_owned(),
             surface_format: format!("{:?}", self.renderer.surface_format()),
             sample_count: self.renderer.sample_count(),
-            view: self.camera.view.name(),
+            view: camera.view.name(),
             width,
             height,
-            dof: self.q.len(),
-            q: self.q.clone(),
+            dof: self.stage.q().len(),
+            q: self.stage.q().to_vec(),
             screen_nodes: nodes
                 .iter()
-                .map(|n| {
-                    self.camera.project(
-                        glam::DVec3::from(*n).as_vec3(),
-                        width as f32,
-                        height as f32,
-                    )
-                })
+                .map(|n| camera.project(DVec3::from(*n).as_vec3(), width as f32, height as f32))
                 .collect(),
             nodes,
         };
         serde_wasm_bindgen::to_value(&state).map_err(|e| JsError::new(&e.to_string()))
     }
-}
-
-impl Viewer {
-    /// Rebuilds the scene from the world (or the robot's own skeleton) and
-    /// the display options.
-    fn rebuild_scene(&mut self) {
-        let scene = &mut self.scene;
-        scene.clear();
-        scene.grid = self.display.grid.then(crate::render::Grid::default);
-        let options = DrawOptions {
-            volumes: self.display.volumes,
-            nodes: self.display.nodes,
-            arrow_scale: self.display.arrow_scale,
-            plane_extent: (1.2 * self.reach).clamp(0.5, 5.0),
-        };
-        let own;
-        let state = match &self.world {
-            Some(world) => world,
-            None => {
-                own = DrawState {
-                    skeleton: skeleton_view(&self.skeleton),
-                    ..DrawState::default()
-                };
-                &own
-            }
-        };
-        build_scene(
-            scene,
-            state,
-            &options,
-            self.selected.as_deref(),
-            self.center.to_array(),
-        );
-        if self.display.axes {
-            for f in &self.frames {
-                let m = f.matrix3.as_mat3();
-                let axes = [
-                    m.x_axis.to_array(),
-                    m.y_axis.to_array(),
-                    m.z_axis.to_array(),
-                ];
-                scene.push_axes(f.translation.as_vec3().to_array(), axes, 0.08, 2.0);
-            }
-        }
-    }
-
-    /// The skeleton nodes currently drawn (m).
-    fn drawn_nodes(&self) -> Vec<[f64; 3]> {
-        match &self.world {
-            Some(world) => world.skeleton.nodes.clone(),
-            None => self.skeleton.nodes.iter().map(|n| n.to_array()).collect(),
-        }
-    }
-}
-
-/// The drawing's view of a core skeleton.
-fn skeleton_view(skeleton: &Skeleton) -> SkeletonView {
-    SkeletonView {
-        nodes: skeleton.nodes.iter().map(|n| n.to_array()).collect(),
-        segments: skeleton
-            .segments
-            .iter()
-            .map(|s| SegmentView {
-                from: s.from,
-                to: s.to,
-                radius: s.radius,
-            })
-            .collect(),
-    }
-}
-
-/// A robot is drawn in 2D when every joint axis is the world z axis and every
-/// frame origin lies in one horizontal plane.
-fn is_planar(frames: &[DAffine3]) -> bool {
-    let Some(first) = frames.first() else {
-        return false;
-    };
-    frames.iter().all(|f| {
-        f.matrix3.z_axis.normalize_or_zero().z.abs() > 1.0 - 1e-9
-            && (f.translation.z - first.translation.z).abs() < 1e-9
-    })
-}
-
-fn view_error(field: &str, name: &str) -> JsError {
-    JsError::new(&format!(
-        "{field}: expected \"auto\", \"3d\", \"top\", \"front\" or \"side\", got {name:?}"
-    ))
-}
-
-/// Centre and radius of a ball that holds the robot in any pose: the base and
-/// the sum of every row's translations, extensions, radii and tools.
-fn reach(robot: &Robot, frames: &Frames) -> (glam::DVec3, f64) {
-    let base = frames.origin(0);
-    let rows: f64 = robot
-        .joints
-        .iter()
-        .zip(&frames.d)
-        .map(|(j, d)| j.a.abs() + d.abs() + j.extension + j.radius[0].max(j.radius[1]))
-        .sum();
-    let tools: f64 = robot
-        .chains
-        .iter()
-        .map(|c| c.tool.translation.length())
-        .sum();
-    (base, (rows + tools).max(0.1))
 }

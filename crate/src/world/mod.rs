@@ -12,7 +12,7 @@
 //! | 2 | **scene query**: forward kinematics, skeleton, every segment against every obstacle within reach (and non-adjacent links against each other) | [`crate::kinematics`], [`crate::skeleton`], [`crate::distance::Scene::query`] | §II |
 //! | 3 | **select**: control points per pair / per obstacle / pinned / self | [`crate::avoidance::selection::select`] | §II, fig. 4 |
 //! | 4 | **transition**: each control point follows its selected point, travelling along the skeleton when it jumps | [`crate::transition::MovingPoint`] | §III-B |
-//! | 5 | **monitor**: switch risk, chattering (stop or lock), time to collision | [`crate::dependability`] | §IV |
+//! | 5 | **monitor**: switch risk, chattering (stop or lock), time to collision, transitions too slow for the approach | [`crate::dependability`], `world/monitor.rs` | §IV |
 //! | 6 | **control**: repulsion and tasks → requested joint velocities | [`crate::avoidance::control`] | §III-A, eq. 4 |
 //! | 7 | **protect**: every pair's approach bounded so the arm can stop before contact | [`crate::avoidance::protect`] | — (ISO/TS 15066) |
 //! | 8 | **limit**: jerk-limited tracking within the joints' limits | [`crate::avoidance::limits`] | — |
@@ -42,6 +42,7 @@ use crate::scenario::{ObstacleSpec, Scenario, ScenarioError, ShapeSpec, TaskSpec
 use crate::skeleton::Skeleton;
 
 mod edit;
+mod monitor;
 mod obstacles;
 mod probe;
 mod state;
@@ -154,7 +155,7 @@ impl World {
         robot.clamp_to_limits(&mut q);
         let frames = robot.forward(&q).map_err(err)?;
         let skeleton = Skeleton::build(&robot, &frames);
-        let adjacency = link_adjacency(&robot, &skeleton);
+        let adjacency = link_adjacency(&robot);
         let obstacles = scenario
             .obstacles
             .iter()
@@ -309,35 +310,25 @@ impl World {
     }
 }
 
-/// Links that never repel each other: links whose segments share a node,
-/// and links one such neighbour apart (a short link between two long ones
-/// keeps their volumes overlapping at the joint). Links without segments
-/// are passed through.
-fn link_adjacency(robot: &Robot, skeleton: &Skeleton) -> Vec<Vec<bool>> {
+/// Links that never repel each other: two hops of [`Robot::adjacent`]
+/// (the one definition of adjacent links: their segments share a skeleton
+/// node). A link is also kept from its neighbour's neighbours because a
+/// short link between two long ones keeps their volumes overlapping at the
+/// joint. Rows without segments never meet in the query, so the pairs they
+/// add through two hops (their parent's other children, already adjacent)
+/// change nothing.
+fn link_adjacency(robot: &Robot) -> Vec<Vec<bool>> {
     let n = robot.dof() + 1;
-    let mut direct = vec![vec![false; n]; n];
-    for a in &skeleton.segments {
-        for b in &skeleton.segments {
-            let share = a.from == b.from || a.from == b.to || a.to == b.from || a.to == b.to;
-            if share && a.link < n && b.link < n {
-                direct[a.link][b.link] = true;
-            }
-        }
-    }
-    let mut adj = direct.clone();
-    for (i, row) in adj.iter_mut().enumerate() {
-        row[i] = true;
-        for (k, via) in direct[i].iter().enumerate() {
-            if *via {
-                for (j, hop) in direct[k].iter().enumerate() {
-                    if *hop {
-                        row[j] = true;
-                    }
-                }
-            }
-        }
-    }
-    adj
+    let direct: Vec<Vec<bool>> = (0..n)
+        .map(|i| (0..n).map(|j| robot.adjacent(i, j)).collect())
+        .collect();
+    (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| direct[i][j] || (0..n).any(|k| direct[i][k] && direct[k][j]))
+                .collect()
+        })
+        .collect()
 }
 
 /// Runs `scenario` from `t = 0` to its duration and returns the trace
@@ -425,4 +416,64 @@ pub fn control_step_workload(obstacles: usize) -> Result<World, ScenarioError> {
         sample_every: 1,
     };
     World::new(scenario)
+}
+
+#[cfg(test)]
+mod tests {
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    use super::*;
+    use crate::kinematics::presets;
+
+    /// Two hops of "segments share a node", read from the skeleton's nodes.
+    fn from_nodes(robot: &Robot, skeleton: &Skeleton) -> Vec<Vec<bool>> {
+        let n = robot.dof() + 1;
+        let mut direct = vec![vec![false; n]; n];
+        for (i, row) in direct.iter_mut().enumerate() {
+            row[i] = true;
+        }
+        for a in &skeleton.segments {
+            for b in &skeleton.segments {
+                if [a.from, a.to].iter().any(|x| *x == b.from || *x == b.to) {
+                    direct[a.link][b.link] = true;
+                }
+            }
+        }
+        let with_segments: Vec<bool> = (0..n)
+            .map(|l| skeleton.segments.iter().any(|s| s.link == l))
+            .collect();
+        (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| direct[i][j] || (0..n).any(|k| direct[i][k] && direct[k][j]))
+                    .collect::<Vec<_>>()
+            })
+            .enumerate()
+            .map(|(i, row)| {
+                // Only rows with segments meet in the query.
+                row.into_iter()
+                    .enumerate()
+                    .map(|(j, x)| x && with_segments[i] && with_segments[j])
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_robots_adjacency_is_the_one_the_skeleton_shows() {
+        for name in presets::NAMES {
+            let robot = Robot::from_spec(&presets::preset(name).unwrap()).unwrap();
+            let frames = robot.forward(&vec![0.2; robot.dof()]).unwrap();
+            let skeleton = Skeleton::build(&robot, &frames);
+            let expected = from_nodes(&robot, &skeleton);
+            let got = link_adjacency(&robot);
+            let links: Vec<usize> = skeleton.segments.iter().map(|s| s.link).collect();
+            for &i in &links {
+                for &j in &links {
+                    assert_eq!(got[i][j], expected[i][j], "{name}: links {i} and {j}");
+                }
+            }
+        }
+    }
 }

@@ -136,6 +136,11 @@ pub struct WorldState {
     pub time_to_collision: Option<f64>,
     /// Whether the monitor is stopping the robot.
     pub stopped: bool,
+    /// Where the sliding point of each point task is now (m, world frame):
+    /// the point of the arm that the task's DH values `(d', a')` move along
+    /// its link (paper eq. 4), in the order of the tasks; empty without
+    /// point tasks.
+    pub sliding_points: Vec<[f64; 3]>,
 }
 
 /// The result of [`World::pick`].
@@ -251,7 +256,19 @@ impl World {
                 .to_vec(),
             time_to_collision: self.time_to_collision,
             stopped: self.stopped,
+            sliding_points: self.sliding_points(),
         }
+    }
+
+    /// Where each point task's sliding point is at the current time.
+    fn sliding_points(&self) -> Vec<[f64; 3]> {
+        self.scenario
+            .task
+            .as_slice()
+            .iter()
+            .filter_map(|task| task.point_at(self.t))
+            .map(|(dh, _)| dh.position(&self.robot, &self.frames).to_array())
+            .collect()
     }
 
     /// One trace sample: the time, joints, clearance and control points the

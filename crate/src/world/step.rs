@@ -9,13 +9,14 @@ use crate::avoidance::protect::{self, GuardPair};
 use crate::avoidance::selection::{self, Key, fraction_on};
 use crate::avoidance::{self, ActivePoint, ControllerConfig, Mode};
 use crate::control_point::DhPoint;
-use crate::dependability::{EventKind, time_to_collision};
+use crate::control_point::PointMotion;
+use crate::dependability::EventKind;
 use crate::distance::{PairDistance, QueryOptions, Target};
 use crate::error::FieldError;
-use crate::kinematics::ik::PointMotion;
 use crate::skeleton::Skeleton;
-use crate::transition::{SkeletonPoint, dh_motion};
+use crate::transition::dh_motion;
 
+use super::monitor::Approach;
 use super::state::ControlPointState;
 use super::uncertainty::SigmaInput;
 
@@ -117,7 +118,7 @@ impl World {
     }
 
     /// Where control point `key` is, its clearance, normal and witness.
-    fn locate(
+    pub(super) fn locate(
         &self,
         key: &Key,
         owner: Option<usize>,
@@ -160,20 +161,11 @@ impl World {
         self.slowdown.resize(self.obstacles.len(), 1.0);
         let keys: Vec<Key> = self.trackers.keys().cloned().collect();
         for key in keys {
-            let Some(tr) = self.trackers.get(&key) else {
+            let Some((dh, radius)) = self.tracked_point(&key, cfg)? else {
                 continue;
             };
-            let (dh, radius) = if let Key::Pinned(k) = key {
-                let Some(p) = cfg.pinned.get(k) else { continue };
-                (
-                    p.clamped(&self.frames),
-                    self.robot.joints[p.link - 1].radius[0],
-                )
-            } else {
-                let pt = tr.mover.point();
-                let (dh, _) = dh_motion(&self.robot, &self.frames, &self.skeleton, pt, 0.0, 0.0)?;
-                let seg = &self.skeleton.segments[pt.segment];
-                (dh, Skeleton::radius_at(seg, pt.t))
+            let Some(tr) = self.trackers.get(&key) else {
+                continue;
             };
             let (prev, remaining, owner) = (tr.closing, tr.mover.remaining(), tr.owner);
             let target = tr.mover.transition().map(|x| x.target());
@@ -198,54 +190,22 @@ impl World {
             } else {
                 1.0
             };
-            let name = match (&key, owner) {
-                (Key::Pinned(k), None) => format!("pinned:{k}"),
-                (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
-                _ => self.name(&key),
-            };
+            let name = self.point_name(&key, owner);
             let at = selected_at.filter(|_| remaining > 0.0);
-            let (ttc_dh, ttc_normal, ttc_clearance) =
-                self.ttc_point(&key, at, owner, (dh, normal, effective))?;
-            let closing = self.closing_speed(&key, &ttc_dh, owner, ttc_normal, dt);
-            let closing = match (prev, closing) {
-                (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
-                (_, c) => c,
-            };
-            let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(ttc_clearance, c));
+            let (ttc, closing, ttc_normal) =
+                self.time_to_collision_at(&key, at, owner, (dh, normal, effective), prev, dt)?;
             min_ttc = min_ttc.min(ttc);
-            // The transition must end before contact and, when the obstacle
-            // itself closes in, the arm must also be able to brake before it
-            // arrives: otherwise the protective layer slows the approach.
-            // With the guards on, the arm's own approach to a still obstacle
-            // cannot end in contact (a velocity damper slows it as the
-            // clearance shrinks), so only an obstacle that closes in can
-            // make a transition too slow.
-            let coming = owner
-                .is_some_and(|o| -ttc_normal.dot(self.obstacles[o].velocity(self.t, dt)) > 0.0);
-            let guarded = cfg.protective.enabled;
-            let needed = remaining + if coming { braking } else { 0.0 };
-            let too_slow = remaining > 0.0 && ttc < needed && (coming || !guarded);
-            let slowdown = if too_slow {
-                (ttc / needed).clamp(0.0, 1.0)
-            } else {
-                1.0
+            let approach = Approach {
+                owner,
+                name: &name,
+                ttc,
+                normal: ttc_normal,
+                remaining,
+                braking,
+                closing,
+                was_slow,
             };
-            if let Some(o) = owner.filter(|_| too_slow) {
-                self.slowdown[o] = self.slowdown[o].min(slowdown);
-            }
-            if let Some(trm) = self.trackers.get_mut(&key) {
-                trm.closing = closing;
-                trm.too_slow = too_slow;
-            }
-            if too_slow && !was_slow {
-                self.push(EventKind::TransitionTooSlow {
-                    obstacle: name.clone(),
-                    time_to_collision: ttc,
-                    remaining,
-                    braking: needed - remaining,
-                    slowdown,
-                });
-            }
+            self.monitor_transition(&key, &approach, cfg, dt);
             let target = target.and_then(|x| {
                 DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
                     .ok()
@@ -284,26 +244,41 @@ impl World {
         Ok(active)
     }
 
-    /// Where the time to collision is measured: at the true closest point,
-    /// the selected witness `at` while the control point still travels to
-    /// it (the obstacle reaches the arm there, not where the control point
-    /// is), else at the control point itself, `here` = (DH point, normal,
-    /// clearance with the margin subtracted).
-    fn ttc_point(
+    /// Where the tracked point `key` is (DH values) and the radius of the
+    /// arm's volume there; `None` for a pinned point the configuration no
+    /// longer has, or a key no longer tracked.
+    fn tracked_point(
         &self,
         key: &Key,
-        at: Option<SkeletonPoint>,
-        owner: Option<usize>,
-        here: (DhPoint, DVec3, f64),
-    ) -> Result<(DhPoint, DVec3, f64), FieldError> {
-        let Some(at) = at else { return Ok(here) };
-        let dh =
-            DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, at.segment, at.t)?;
-        let radius = Skeleton::radius_at(&self.skeleton.segments[at.segment], at.t);
-        let position = dh.position(&self.robot, &self.frames);
-        let (d, normal, _, owner) = self.locate(key, owner, position, radius)?;
-        let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
-        Ok((dh, normal, d - margin))
+        cfg: &ControllerConfig,
+    ) -> Result<Option<(DhPoint, f64)>, FieldError> {
+        let Some(tr) = self.trackers.get(key) else {
+            return Ok(None);
+        };
+        Ok(Some(if let Key::Pinned(k) = key {
+            let Some(p) = cfg.pinned.get(*k) else {
+                return Ok(None);
+            };
+            (
+                p.clamped(&self.frames),
+                self.robot.joints[p.link - 1].radius[0],
+            )
+        } else {
+            let pt = tr.mover.point();
+            let (dh, _) = dh_motion(&self.robot, &self.frames, &self.skeleton, pt, 0.0, 0.0)?;
+            let seg = &self.skeleton.segments[pt.segment];
+            (dh, Skeleton::radius_at(seg, pt.t))
+        }))
+    }
+
+    /// The obstacle id a control point reports (`pinned:<k>` for a pinned
+    /// point with no obstacle in reach).
+    fn point_name(&self, key: &Key, owner: Option<usize>) -> String {
+        match (key, owner) {
+            (Key::Pinned(k), None) => format!("pinned:{k}"),
+            (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
+            _ => self.name(key),
+        }
     }
 
     /// The obstacle pinned point `k` answers: the closest one, unless a
@@ -329,40 +304,6 @@ impl World {
         }
         self.trackers.insert(key.clone(), tracker);
         owner
-    }
-
-    /// The speed at which control point `key` and what it answers close in
-    /// (m/s, positive when approaching), from the motion of the arm's
-    /// material point at `dh` (`nᵀ J_θ q̇`, not the point's travel along the
-    /// skeleton), minus that of the other point of a self-collision pair,
-    /// plus the obstacle's own approach speed (`−nᵀ v`, from its motion, not
-    /// from the sensed noise). `None` when the point answers nothing.
-    fn closing_speed(
-        &self,
-        key: &Key,
-        dh: &DhPoint,
-        owner: Option<usize>,
-        normal: DVec3,
-        dt: f64,
-    ) -> Option<f64> {
-        let qdot = &self.motion.qdot;
-        let velocity = |p: &DhPoint| -> DVec3 {
-            let j = p.jacobians(&self.robot, &self.frames);
-            j.j_theta.iter().zip(qdot).map(|(c, v)| *c * *v).sum()
-        };
-        let arm = normal.dot(velocity(dh));
-        match (key, owner) {
-            (Key::SelfPair(_, other), _) => {
-                let position = dh.position(&self.robot, &self.frames);
-                let u = fraction_on(&self.skeleton, *other, position);
-                let o =
-                    DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, *other, u)
-                        .ok()?;
-                Some(arm - normal.dot(velocity(&o)))
-            }
-            (_, Some(o)) => Some(arm - normal.dot(self.obstacles[o].velocity(self.t, dt))),
-            (_, None) => None,
-        }
     }
 
     /// Stage 6: the controller's requested joint velocities (zero while

@@ -239,26 +239,10 @@ struct PrimitiveFields {
     points: Option<Vec<[f64; 3]>>,
 }
 
-impl TryFrom<PrimitiveFields> for PrimitiveSpec {
-    type Error = String;
-
-    fn try_from(f: PrimitiveFields) -> Result<Self, String> {
-        let kind = f.kind.0.as_str();
-        let present = [
-            ("p", f.p.is_some()),
-            ("a", f.a.is_some()),
-            ("b", f.b.is_some()),
-            ("center", f.center.is_some()),
-            ("radius", f.radius.is_some()),
-            ("normal", f.normal.is_some()),
-            ("offset", f.offset.is_some()),
-            ("axes", f.axes.is_some()),
-            ("halfExtents", f.half_extents.is_some()),
-            ("vertices", f.vertices.is_some()),
-            ("rotation", f.rotation.is_some()),
-            ("points", f.points.is_some()),
-        ];
-        let (required, optional): (&[&str], &[&str]) = match kind {
+impl PrimitiveFields {
+    /// The required and the optional keys of a figure of `kind`.
+    fn keys(kind: &str) -> (&'static [&'static str], &'static [&'static str]) {
+        match kind {
             "point" => (&["p"], &[]),
             "segment" => (&["a", "b"], &[]),
             "sphere" => (&["center", "radius"], &[]),
@@ -269,7 +253,27 @@ impl TryFrom<PrimitiveFields> for PrimitiveSpec {
             "polygon" => (&["vertices"], &[]),
             "box" => (&["center", "halfExtents"], &["rotation"]),
             _ => (&["points"], &[]),
-        };
+        }
+    }
+
+    /// Checks that every required key of a `kind` is present and no other
+    /// key but its optional ones.
+    fn check_keys(&self, kind: &str) -> Result<(), String> {
+        let present = [
+            ("p", self.p.is_some()),
+            ("a", self.a.is_some()),
+            ("b", self.b.is_some()),
+            ("center", self.center.is_some()),
+            ("radius", self.radius.is_some()),
+            ("normal", self.normal.is_some()),
+            ("offset", self.offset.is_some()),
+            ("axes", self.axes.is_some()),
+            ("halfExtents", self.half_extents.is_some()),
+            ("vertices", self.vertices.is_some()),
+            ("rotation", self.rotation.is_some()),
+            ("points", self.points.is_some()),
+        ];
+        let (required, optional) = Self::keys(kind);
         let fields = || {
             required
                 .iter()
@@ -289,6 +293,16 @@ impl TryFrom<PrimitiveFields> for PrimitiveSpec {
                 return Err(format!("missing `{name}` (a {kind} needs {})", fields()));
             }
         }
+        Ok(())
+    }
+}
+
+impl TryFrom<PrimitiveFields> for PrimitiveSpec {
+    type Error = String;
+
+    fn try_from(f: PrimitiveFields) -> Result<Self, String> {
+        let kind = f.kind.0.as_str();
+        f.check_keys(kind)?;
         let missing = || String::from("internal: a required field went missing");
         let one = |r: Option<RadiusField>| match r {
             Some(RadiusField::One(x)) => Ok(x),
@@ -394,6 +408,47 @@ impl PrimitiveSpec {
                 "type",
                 format!("unknown primitive \"{kind}\""),
             ))
+        }
+    }
+
+    /// The figure's reference point (m): the centre of spheres, boxes,
+    /// rectangles and disks, the middle of segments and capsules, the point
+    /// itself, the vertex mean of polygons and hulls, the point of a plane
+    /// closest to the origin. Motions move it, `moveObstacle` places it, the
+    /// viewer frames it.
+    ///
+    /// See also [`crate::scenario::reference_point`] for whole figures.
+    #[must_use]
+    pub fn reference_point(&self) -> glam::DVec3 {
+        use glam::DVec3;
+        let v = DVec3::from_array;
+        let mean = |pts: &[[f64; 3]]| {
+            if pts.is_empty() {
+                DVec3::ZERO
+            } else {
+                pts.iter().map(|p| v(*p)).sum::<DVec3>() / pts.len() as f64
+            }
+        };
+        match self {
+            Self::Point(s) => v(s.p),
+            Self::Segment(SegmentSpec { a, b })
+            | Self::Capsule(CapsuleSpec { a, b, .. })
+            | Self::TaperedCapsule(TaperedCapsuleSpec { a, b, .. }) => (v(*a) + v(*b)) * 0.5,
+            Self::Sphere(SphereSpec { center, .. })
+            | Self::Rectangle(RectangleSpec { center, .. })
+            | Self::Disk(DiskSpec { center, .. })
+            | Self::Box(BoxSpec { center, .. }) => v(*center),
+            Self::Plane(s) => {
+                let n = v(s.normal);
+                let l2 = n.length_squared();
+                if l2 > 0.0 {
+                    -s.offset * n / l2
+                } else {
+                    DVec3::ZERO
+                }
+            }
+            Self::Polygon(s) => mean(&s.vertices),
+            Self::ConvexHull(s) => mean(&s.points),
         }
     }
 }

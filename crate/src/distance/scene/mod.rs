@@ -464,8 +464,9 @@ fn pair(i: usize, vol: &Primitive, target: Target, d: Distance) -> PairDistance 
 /// `j` are adjacent when one is the parent of the other.
 ///
 /// For a [`Robot`](crate::kinematics::Robot) use
-/// `|i, j| robot.adjacent(i, j)` instead: it skips rows that add no segment
-/// and counts sibling chains starting from one node as adjacent.
+/// `|i, j| robot.adjacent(i, j)` instead (the crate's one definition of
+/// adjacent links): it skips rows that add no segment and counts sibling
+/// chains starting from one node as adjacent.
 pub fn parent_adjacency(parents: &[usize]) -> impl Fn(usize, usize) -> bool + '_ {
     move |i, j| parents.get(i) == Some(&j) || parents.get(j) == Some(&i)
 }

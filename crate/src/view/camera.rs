@@ -267,8 +267,10 @@ impl Camera {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    #[cfg(target_arch = "wasm32")]
     use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    use super::*;
 
     #[test]
     fn target_projects_to_the_centre() {
@@ -317,5 +319,31 @@ mod tests {
             let miss = (origin + along * direction - point).length();
             assert!(along > 0.0 && miss < 1e-4, "{view:?}: miss {miss}");
         }
+    }
+
+    #[test]
+    fn every_point_of_a_pixel_ray_projects_back_to_the_pixel() {
+        for view in [View::Orbit, View::Top, View::Front, View::Side] {
+            let mut camera = Camera::framing(Vec3::new(0.1, 0.2, 0.3), 0.8, view);
+            camera.orbit(-30.0, 12.0);
+            for (x, y) in [(0.0, 0.0), (150.0, 100.0), (299.0, 17.5), (42.0, 199.0)] {
+                let (origin, direction) = camera.ray(x, y, 300.0, 200.0).unwrap();
+                assert!((direction.length() - 1.0).abs() < 1e-5);
+                for t in [0.0, 0.5, 2.0] {
+                    let [px, py] = camera
+                        .project(origin + t * direction, 300.0, 200.0)
+                        .unwrap();
+                    let miss = (px - x).hypot(py - y);
+                    assert!(miss < 0.05, "{view:?} ({x}, {y}) t={t}: off by {miss} px");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn points_behind_the_eye_do_not_project() {
+        let camera = Camera::framing(Vec3::ZERO, 1.0, View::Orbit);
+        let behind = camera.eye() + camera.backward();
+        assert_eq!(camera.project(behind, 100.0, 100.0), None);
     }
 }

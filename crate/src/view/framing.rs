@@ -1,0 +1,129 @@
+//! Framing: the ball that holds a robot in any pose, whether a robot is
+//! drawn in 2D, and the points a view should keep on screen.
+
+use glam::{DAffine3, DVec3};
+
+use super::draw::DrawState;
+use crate::distance::PrimitiveSpec;
+use crate::kinematics::{Frames, JointType, Robot};
+
+/// A ball around the robot's base that holds the robot in any pose.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reach {
+    /// The base (m, world frame).
+    pub center: DVec3,
+    /// Radius (m), at least 0.1.
+    pub radius: f64,
+}
+
+impl Reach {
+    /// The reach of `robot`, whose frames at some pose are `frames`: the sum
+    /// over every row of `|a| + |d|` (for a prismatic joint the larger of
+    /// `|d|` at that pose and at its limits, when they are finite),
+    /// the link's extension past its joint and its largest volume radius,
+    /// plus every tool's offset. A bound, not the exact workspace.
+    #[must_use]
+    pub fn of(robot: &Robot, frames: &Frames) -> Self {
+        let rows: f64 = robot
+            .joints
+            .iter()
+            .zip(&frames.d)
+            .map(|(j, d)| {
+                // A prismatic row reaches as far as its limits allow.
+                let d = match j.kind {
+                    JointType::Prismatic if j.min.is_finite() && j.max.is_finite() => {
+                        (j.d + j.min).abs().max((j.d + j.max).abs()).max(d.abs())
+                    }
+                    _ => d.abs(),
+                };
+                j.a.abs() + d + j.extension + j.radius[0].max(j.radius[1])
+            })
+            .sum();
+        let tools: f64 = robot
+            .chains
+            .iter()
+            .map(|c| c.tool.translation.length())
+            .sum();
+        Self {
+            center: frames.origin(0),
+            radius: (rows + tools).max(0.1),
+        }
+    }
+
+    /// Half the side of the square that stands for an infinite plane (m):
+    /// a bit more than the reach, within 0.5 … 5 m.
+    #[must_use]
+    pub fn plane_extent(&self) -> f64 {
+        (1.2 * self.radius).clamp(0.5, 5.0)
+    }
+}
+
+/// Whether a robot is drawn in 2D: every joint axis is the world z axis and
+/// every frame origin lies in one horizontal plane (within 1e-9).
+#[must_use]
+pub fn is_planar(frames: &[DAffine3]) -> bool {
+    let Some(first) = frames.first() else {
+        return false;
+    };
+    frames.iter().all(|f| {
+        f.matrix3.z_axis.normalize_or_zero().z.abs() > 1.0 - 1e-9
+            && (f.translation.z - first.translation.z).abs() < 1e-9
+    })
+}
+
+/// The points a view should frame: the skeleton's nodes and the reference
+/// point of every bounded obstacle part the robot can reach (within the
+/// reach ball). Infinite planes and parts out of reach (a large floor's
+/// centre, a person walking in from afar) are left out so that the robot
+/// stays large on screen.
+#[must_use]
+pub fn fit_points(state: &DrawState, reach: &Reach) -> Vec<[f64; 3]> {
+    let mut points = state.skeleton.nodes.clone();
+    let parts = state.obstacles.iter().flat_map(|o| &o.parts);
+    for part in parts {
+        if matches!(part, PrimitiveSpec::Plane(_)) {
+            continue;
+        }
+        let p = part.reference_point();
+        if p.distance(reach.center) <= reach.radius {
+            points.push(p.to_array());
+        }
+    }
+    points
+}
+
+#[cfg(test)]
+mod tests {
+    #[cfg(target_arch = "wasm32")]
+    use wasm_bindgen_test::wasm_bindgen_test as test;
+
+    use super::*;
+    use crate::kinematics::presets;
+
+    fn robot(name: &str) -> Robot {
+        Robot::from_spec(&presets::preset(name).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn planar3_is_planar_and_the_arms_in_3d_are_not() {
+        let planar = robot("planar3");
+        let f = planar.forward(&[0.3, -0.7, 1.1]).unwrap();
+        assert!(is_planar(&f.transforms));
+        for name in ["lwr4", "panda", "ur5", "dual-arm"] {
+            let r = robot(name);
+            let f = r.forward(&vec![0.0; r.dof()]).unwrap();
+            assert!(!is_planar(&f.transforms), "{name}");
+        }
+        assert!(!is_planar(&[]));
+    }
+
+    #[test]
+    fn planar3_reach_is_its_link_lengths_and_volumes() {
+        let r = robot("planar3");
+        let f = r.forward(&[0.0; 3]).unwrap();
+        let reach = Reach::of(&r, &f);
+        let radii: f64 = r.joints.iter().map(|j| j.radius[0].max(j.radius[1])).sum();
+        assert!((reach.radius - (0.9 + radii)).abs() < 1e-12, "{reach:?}");
+        assert_eq!(reach.center, DVec3::ZERO);
+    }
+}

@@ -1,0 +1,36 @@
+//! What the playground's viewer shows, as plain data: the drawn scene of a
+//! robot or a simulated world, the framing of a robot, and the camera.
+//!
+//! Nothing here knows of the GPU or of JavaScript: the module builds and is
+//! tested natively like the rest of the core. The wgpu renderer (`render`,
+//! wasm32 only) uploads a [`Scene`] as seen by a [`Camera`]; the wasm
+//! `Viewer` converts its arguments and delegates to a [`Stage`].
+//!
+//! | file | what it holds |
+//! |---|---|
+//! | `scene.rs` | [`Scene`]: capsules, spheres, lines, triangles, a ground grid (f32, sRGB) |
+//! | `camera.rs` | [`Camera`]: orbit / pan / zoom, perspective or the 2D views, projection and picking rays |
+//! | `draw.rs` | [`DrawState`] and [`build_scene`]: skeleton, obstacles, control points, arrows, margins |
+//! | `shapes.rs` | each obstacle primitive as scene items |
+//! | `framing.rs` | [`Reach`], [`is_planar`], [`fit_points`] |
+//! | `stage.rs` | [`Stage`]: robot, pose, world, selection, display and camera together |
+//!
+//! Data flow of one frame: `World` → [`crate::world::WorldState`] →
+//! [`DrawState`] (moved, not copied) → [`build_scene`] → [`Scene`] → GPU.
+
+mod camera;
+mod draw;
+mod framing;
+mod scene;
+mod shapes;
+mod stage;
+
+pub use camera::{Camera, View};
+pub use draw::{
+    ControlPointView, DrawOptions, DrawState, ObstacleView, SegmentView, SkeletonView,
+    UncertaintyView, build_scene, style,
+};
+pub use framing::{Reach, fit_points, is_planar};
+pub use scene::{Capsule, Grid, Line, Scene, Sphere, Triangle};
+pub use shapes::{Palette, THIN, UNCERTAINTY};
+pub use stage::{Display, Stage, parse_view};

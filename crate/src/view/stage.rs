@@ -1,0 +1,321 @@
+//! [`Stage`]: everything a viewer shows except the GPU — the robot and its
+//! pose, or a world's state, the selection, the display options, the camera
+//! and the scene built from them.
+//!
+//! The wasm `Viewer` is a [`Stage`] and a renderer: it converts arguments,
+//! asks the stage, and uploads [`Stage::scene`] when [`Stage::is_dirty`].
+
+use glam::{DAffine3, DVec3, Vec3};
+use serde::Deserialize;
+
+use super::camera::{Camera, View};
+use super::draw::{DrawOptions, DrawState, SegmentView, SkeletonView, build_scene};
+use super::framing::{Reach, fit_points, is_planar};
+use super::scene::{Grid, Scene};
+use crate::error::FieldError;
+use crate::kinematics::Robot;
+use crate::skeleton::Skeleton;
+
+/// What can be switched on and off in the drawing (`setDisplay`).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields, rename_all = "camelCase")]
+pub struct Display {
+    /// The translucent volumes around the skeleton segments.
+    pub volumes: bool,
+    /// The skeleton nodes as small spheres.
+    pub nodes: bool,
+    /// The DH frames' axes.
+    pub axes: bool,
+    /// The ground grid.
+    pub grid: bool,
+    /// Arrow length per unit of repulsion (s: metres of arrow per m/s).
+    pub arrow_scale: f64,
+}
+
+impl Default for Display {
+    fn default() -> Self {
+        Self {
+            volumes: true,
+            nodes: true,
+            axes: false,
+            grid: true,
+            arrow_scale: 0.4,
+        }
+    }
+}
+
+/// Parses a view name: `Some(view)` for `"3d"`, `"top"`, `"front"`,
+/// `"side"` (and [`View::parse`]'s aliases), `None` for `"auto"`.
+///
+/// # Errors
+/// `field: expected "auto", "3d", "top", "front" or "side", got "x"`.
+pub fn parse_view(field: &str, name: &str) -> Result<Option<View>, FieldError> {
+    if name == "auto" {
+        return Ok(None);
+    }
+    View::parse(name).map(Some).ok_or_else(|| {
+        FieldError::new(
+            field,
+            format!("expected \"auto\", \"3d\", \"top\", \"front\" or \"side\", got {name:?}"),
+        )
+    })
+}
+
+/// The viewer's state apart from the GPU.
+#[derive(Clone, Debug)]
+pub struct Stage {
+    camera: Camera,
+    scene: Scene,
+    display: Display,
+    /// The view chosen at creation, if not `"auto"`.
+    fixed_view: Option<View>,
+    /// The view `"auto"` stands for with the current robot.
+    auto_view: View,
+    robot: Option<Robot>,
+    q: Vec<f64>,
+    skeleton: Skeleton,
+    frames: Vec<DAffine3>,
+    /// The world last drawn (replaces the robot's own skeleton while set).
+    world: Option<DrawState>,
+    /// Id of the highlighted obstacle.
+    selected: Option<String>,
+    reach: Reach,
+    dirty: bool,
+}
+
+impl Stage {
+    /// An empty stage; `fixed_view` is the view to keep whatever the robot
+    /// (`None`: the top view for a planar robot, else 3D).
+    #[must_use]
+    pub fn new(fixed_view: Option<View>) -> Self {
+        Self {
+            camera: Camera::framing(Vec3::ZERO, 1.0, fixed_view.unwrap_or(View::Orbit)),
+            scene: Scene::new(),
+            display: Display::default(),
+            fixed_view,
+            auto_view: View::Orbit,
+            robot: None,
+            q: Vec::new(),
+            skeleton: Skeleton::default(),
+            frames: Vec::new(),
+            world: None,
+            selected: None,
+            reach: Reach {
+                center: DVec3::ZERO,
+                radius: 1.0,
+            },
+            dirty: true,
+        }
+    }
+
+    /// Sets the robot at zero (or the nearest pose within its joint limits),
+    /// forgets the drawn world and, unless a view was fixed, frames the
+    /// robot's reach (top view for a planar robot).
+    ///
+    /// # Errors
+    /// Forward kinematics' own (not expected for a validated robot).
+    pub fn set_robot(&mut self, robot: Robot) -> Result<(), FieldError> {
+        let mut q = vec![0.0; robot.dof()];
+        robot.clamp_to_limits(&mut q);
+        let f = robot.forward(&q)?;
+        self.skeleton = Skeleton::build(&robot, &f);
+        self.reach = Reach::of(&robot, &f);
+        self.auto_view = if is_planar(&f.transforms) {
+            View::Top
+        } else {
+            View::Orbit
+        };
+        let view = self.fixed_view.unwrap_or(self.auto_view);
+        self.camera = Camera::framing(self.reach.center.as_vec3(), self.reach.radius as f32, view);
+        self.frames = f.transforms;
+        self.robot = Some(robot);
+        self.q = q;
+        self.world = None;
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// Sets the joint vector (rad, m) of the robot.
+    ///
+    /// # Errors
+    /// `setJoints: no robot; call setRobot first`, or forward kinematics'
+    /// (`q: expected 3 values, got 2`, `q[1]: not a finite number`).
+    pub fn set_joints(&mut self, q: Vec<f64>) -> Result<(), FieldError> {
+        self.require_robot()?;
+        let Some(robot) = &self.robot else {
+            return Ok(());
+        };
+        let f = robot.forward(&q)?;
+        self.skeleton = Skeleton::build(robot, &f);
+        self.frames = f.transforms;
+        self.q = q;
+        self.dirty = true;
+        Ok(())
+    }
+
+    /// `Ok` once a robot is set.
+    ///
+    /// # Errors
+    /// `setJoints: no robot; call setRobot first`.
+    pub fn require_robot(&self) -> Result<(), FieldError> {
+        if self.robot.is_some() {
+            Ok(())
+        } else {
+            Err(FieldError::new(
+                "setJoints",
+                "no robot; call setRobot first",
+            ))
+        }
+    }
+
+    /// Draws `state` (a world's) instead of the robot's own skeleton until
+    /// the next [`Stage::set_robot`].
+    pub fn draw(&mut self, state: DrawState) {
+        self.world = Some(state);
+        self.dirty = true;
+    }
+
+    /// Highlights the obstacle with this id (`None`: none).
+    pub fn set_selected(&mut self, id: Option<String>) {
+        self.selected = id;
+        self.dirty = true;
+    }
+
+    /// Chooses what is drawn.
+    pub fn set_display(&mut self, display: Display) {
+        self.display = display;
+        self.dirty = true;
+    }
+
+    /// Switches the view (`None`: the one `"auto"` stands for).
+    pub fn set_view(&mut self, view: Option<View>) {
+        self.camera.view = view.unwrap_or(self.auto_view);
+        self.dirty = true;
+    }
+
+    /// The camera.
+    #[must_use]
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Orbits the 3D camera by a drag of `dx`, `dy` pixels.
+    pub fn orbit(&mut self, dx: f32, dy: f32) {
+        self.camera.orbit(dx, dy);
+        self.dirty = true;
+    }
+
+    /// Pans by a drag of `dx`, `dy` pixels in a buffer `height` pixels high.
+    pub fn pan(&mut self, dx: f32, dy: f32, height: f32) {
+        self.camera.pan(dx, dy, height);
+        self.dirty = true;
+    }
+
+    /// Multiplies the camera distance by `factor` (> 1 zooms out).
+    pub fn zoom(&mut self, factor: f32) {
+        self.camera.zoom(factor);
+        self.dirty = true;
+    }
+
+    /// Aims the camera, keeping its direction, at the skeleton and the
+    /// obstacles within the robot's reach so that they fill `fill` of a
+    /// drawing buffer of `aspect` = width / height.
+    pub fn fit(&mut self, fill: f32, aspect: f32) {
+        let points = match &self.world {
+            Some(world) => fit_points(world, &self.reach),
+            None => self.drawn_nodes(),
+        };
+        let points: Vec<Vec3> = points.iter().map(|p| DVec3::from(*p).as_vec3()).collect();
+        self.camera.fit(&points, aspect, fill);
+        self.dirty = true;
+    }
+
+    /// The robot's reach (the ball framed by [`Stage::set_robot`]).
+    #[must_use]
+    pub fn reach(&self) -> Reach {
+        self.reach
+    }
+
+    /// The joint vector (empty before a robot is set).
+    #[must_use]
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// The skeleton nodes currently drawn (m).
+    #[must_use]
+    pub fn drawn_nodes(&self) -> Vec<[f64; 3]> {
+        match &self.world {
+            Some(world) => world.skeleton.nodes.clone(),
+            None => self.skeleton.nodes.iter().map(|n| n.to_array()).collect(),
+        }
+    }
+
+    /// Whether anything changed since the scene was last drawn.
+    #[must_use]
+    pub fn is_dirty(&self) -> bool {
+        self.dirty
+    }
+
+    /// Records whether the last frame reached the screen (a skipped frame
+    /// leaves the stage dirty, to be drawn again).
+    pub fn drawn(&mut self, presented: bool) {
+        self.dirty = !presented;
+    }
+
+    /// Marks the stage as needing a new frame (after a resize).
+    pub fn touch(&mut self) {
+        self.dirty = true;
+    }
+
+    /// The scene to draw, rebuilt from the world (or the robot's own
+    /// skeleton) and the display options.
+    pub fn scene(&mut self) -> &Scene {
+        let scene = &mut self.scene;
+        scene.clear();
+        scene.grid = self.display.grid.then(Grid::default);
+        let options = DrawOptions {
+            volumes: self.display.volumes,
+            nodes: self.display.nodes,
+            arrow_scale: self.display.arrow_scale,
+            plane_extent: self.reach.plane_extent(),
+        };
+        let own;
+        let state = match &self.world {
+            Some(world) => world,
+            None => {
+                own = DrawState {
+                    skeleton: skeleton_view(&self.skeleton),
+                    ..DrawState::default()
+                };
+                &own
+            }
+        };
+        let around = self.reach.center.to_array();
+        build_scene(scene, state, &options, self.selected.as_deref(), around);
+        if self.display.axes {
+            for f in &self.frames {
+                let m = f.matrix3.as_mat3();
+                let axes = [m.x_axis, m.y_axis, m.z_axis].map(|a| a.to_array());
+                scene.push_axes(f.translation.as_vec3().to_array(), axes, 0.08, 2.0);
+            }
+        }
+        &self.scene
+    }
+}
+
+/// The drawing's view of a core skeleton.
+fn skeleton_view(skeleton: &Skeleton) -> SkeletonView {
+    SkeletonView {
+        nodes: skeleton.nodes.iter().map(|n| n.to_array()).collect(),
+        segments: skeleton
+            .segments
+            .iter()
+            .map(|s| SegmentView {
+                from: s.from,
+                to: s.to,
+                radius: s.radius,
+            })
+            .collect(),
+    }
+}

@@ -1,0 +1,160 @@
+//! The monitor's part of the active-point stage: where and how fast an
+//! obstacle closes in on a control point (time to collision), and the
+//! `transitionTooSlow` monitor that slows the approach when a transition
+//! cannot end, and the arm brake, before contact.
+
+use glam::DVec3;
+
+use super::World;
+use super::step::CLOSING_FILTER_TIME;
+use crate::avoidance::ControllerConfig;
+use crate::avoidance::selection::{Key, fraction_on};
+use crate::control_point::DhPoint;
+use crate::dependability::{EventKind, time_to_collision};
+use crate::error::FieldError;
+use crate::skeleton::Skeleton;
+use crate::transition::SkeletonPoint;
+
+impl World {
+    /// The `transitionTooSlow` monitor of one point.
+    ///
+    /// The transition must end before contact and, when the obstacle itself
+    /// closes in, the arm must also be able to brake before it arrives:
+    /// otherwise the protective layer slows the approach. With the guards
+    /// on, the arm's own approach to a still obstacle cannot end in contact
+    /// (a velocity damper slows it as the clearance shrinks), so only an
+    /// obstacle that closes in can make a transition too slow.
+    pub(super) fn monitor_transition(
+        &mut self,
+        key: &Key,
+        a: &Approach<'_>,
+        cfg: &ControllerConfig,
+        dt: f64,
+    ) {
+        let (owner, ttc, remaining) = (a.owner, a.ttc, a.remaining);
+        let coming =
+            owner.is_some_and(|o| -a.normal.dot(self.obstacles[o].velocity(self.t, dt)) > 0.0);
+        let guarded = cfg.protective.enabled;
+        let needed = remaining + if coming { a.braking } else { 0.0 };
+        let too_slow = remaining > 0.0 && ttc < needed && (coming || !guarded);
+        let slowdown = if too_slow {
+            (ttc / needed).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        if let Some(o) = owner.filter(|_| too_slow) {
+            self.slowdown[o] = self.slowdown[o].min(slowdown);
+        }
+        if let Some(trm) = self.trackers.get_mut(key) {
+            trm.closing = a.closing;
+            trm.too_slow = too_slow;
+        }
+        if too_slow && !a.was_slow {
+            self.push(EventKind::TransitionTooSlow {
+                obstacle: a.name.to_owned(),
+                time_to_collision: ttc,
+                remaining,
+                braking: needed - remaining,
+                slowdown,
+            });
+        }
+    }
+
+    /// The time to collision of tracked point `key` (see [`World::ttc_point`]
+    /// for where it is measured), with its closing speed low-pass filtered
+    /// from the previous step's `prev`, and the normal it was measured along.
+    pub(super) fn time_to_collision_at(
+        &self,
+        key: &Key,
+        at: Option<SkeletonPoint>,
+        owner: Option<usize>,
+        here: (DhPoint, DVec3, f64),
+        prev: Option<f64>,
+        dt: f64,
+    ) -> Result<(f64, Option<f64>, DVec3), FieldError> {
+        let (dh, normal, clearance) = self.ttc_point(key, at, owner, here)?;
+        let closing = self.closing_speed(key, &dh, owner, normal, dt);
+        let closing = match (prev, closing) {
+            (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
+            (_, c) => c,
+        };
+        let ttc = closing.map_or(f64::INFINITY, |c| time_to_collision(clearance, c));
+        Ok((ttc, closing, normal))
+    }
+
+    /// Where the time to collision is measured: at the true closest point,
+    /// the selected witness `at` while the control point still travels to
+    /// it (the obstacle reaches the arm there, not where the control point
+    /// is), else at the control point itself, `here` = (DH point, normal,
+    /// clearance with the margin subtracted).
+    pub(super) fn ttc_point(
+        &self,
+        key: &Key,
+        at: Option<SkeletonPoint>,
+        owner: Option<usize>,
+        here: (DhPoint, DVec3, f64),
+    ) -> Result<(DhPoint, DVec3, f64), FieldError> {
+        let Some(at) = at else { return Ok(here) };
+        let dh =
+            DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, at.segment, at.t)?;
+        let radius = Skeleton::radius_at(&self.skeleton.segments[at.segment], at.t);
+        let position = dh.position(&self.robot, &self.frames);
+        let (d, normal, _, owner) = self.locate(key, owner, position, radius)?;
+        let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
+        Ok((dh, normal, d - margin))
+    }
+
+    /// The speed at which control point `key` and what it answers close in
+    /// (m/s, positive when approaching), from the motion of the arm's
+    /// material point at `dh` (`nᵀ J_θ q̇`, not the point's travel along the
+    /// skeleton), minus that of the other point of a self-collision pair,
+    /// plus the obstacle's own approach speed (`−nᵀ v`, from its motion, not
+    /// from the sensed noise). `None` when the point answers nothing.
+    pub(super) fn closing_speed(
+        &self,
+        key: &Key,
+        dh: &DhPoint,
+        owner: Option<usize>,
+        normal: DVec3,
+        dt: f64,
+    ) -> Option<f64> {
+        let qdot = &self.motion.qdot;
+        let velocity = |p: &DhPoint| -> DVec3 {
+            let j = p.jacobians(&self.robot, &self.frames);
+            j.j_theta.iter().zip(qdot).map(|(c, v)| *c * *v).sum()
+        };
+        let arm = normal.dot(velocity(dh));
+        match (key, owner) {
+            (Key::SelfPair(_, other), _) => {
+                let position = dh.position(&self.robot, &self.frames);
+                let u = fraction_on(&self.skeleton, *other, position);
+                let o =
+                    DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, *other, u)
+                        .ok()?;
+                Some(arm - normal.dot(velocity(&o)))
+            }
+            (_, Some(o)) => Some(arm - normal.dot(self.obstacles[o].velocity(self.t, dt))),
+            (_, None) => None,
+        }
+    }
+}
+
+/// What the `transitionTooSlow` monitor knows of one control point.
+pub(super) struct Approach<'a> {
+    /// The obstacle it answers, if any.
+    pub owner: Option<usize>,
+    /// The id it reports.
+    pub name: &'a str,
+    /// Time to collision (s).
+    pub ttc: f64,
+    /// Unit normal from the point towards the obstacle.
+    pub normal: DVec3,
+    /// Time left of its transition (s).
+    pub remaining: f64,
+    /// Time the arm needs to stop (s).
+    pub braking: f64,
+    /// Filtered closing speed (m/s).
+    pub closing: Option<f64>,
+    /// Whether it was already too slow at the last step.
+    pub was_slow: bool,
+}

@@ -1,0 +1,302 @@
+//! The viewer's core, natively: every shipped example framed and drawn
+//! (the reach holds every pose, the camera keeps the reach on screen, planar
+//! robots get the top view, the scene has one mark per segment, obstacle
+//! part and control point), and a recorded state object draws the same
+//! scene as the live world. Runs natively and under `wasm-pack test --node`.
+
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use glam::DVec3;
+use skeleton_avoidance::distance::PrimitiveSpec;
+use skeleton_avoidance::rng::Rng;
+use skeleton_avoidance::scenario::{self, EXAMPLE_NAMES};
+use skeleton_avoidance::skeleton::Skeleton;
+use skeleton_avoidance::view::{
+    DrawOptions, DrawState, Palette, Scene, Stage, View, build_scene, style,
+};
+use skeleton_avoidance::world::World;
+
+/// The example's world after `steps` control steps.
+fn world_after(name: &str, steps: usize) -> World {
+    let scenario = scenario::example(name).unwrap();
+    let dt = scenario.dt;
+    let mut world = World::new(scenario).unwrap();
+    for _ in 0..steps {
+        world.step(dt);
+    }
+    world
+}
+
+/// A joint vector within the limits (±π where a joint has none).
+fn random_pose(rng: &mut Rng, world: &World) -> Vec<f64> {
+    world
+        .robot()
+        .joints
+        .iter()
+        .map(|j| {
+            let lo = if j.min.is_finite() {
+                j.min
+            } else {
+                -std::f64::consts::PI
+            };
+            let hi = if j.max.is_finite() {
+                j.max
+            } else {
+                std::f64::consts::PI
+            };
+            rng.range(lo, hi)
+        })
+        .collect()
+}
+
+#[test]
+fn the_reach_holds_every_pose_of_every_example() {
+    let mut rng = Rng::new(7);
+    for name in EXAMPLE_NAMES {
+        let world = world_after(name, 0);
+        let robot = world.robot().clone();
+        let mut stage = Stage::new(None);
+        stage.set_robot(robot.clone()).unwrap();
+        let reach = stage.reach();
+        for _ in 0..100 {
+            let q = random_pose(&mut rng, &world);
+            let f = robot.forward(&q).unwrap();
+            let skeleton = Skeleton::build(&robot, &f);
+            for s in &skeleton.segments {
+                for (node, r) in [(s.from, s.radius[0]), (s.to, s.radius[1])] {
+                    let out = skeleton.nodes[node].distance(reach.center) + r;
+                    assert!(out <= reach.radius + 1e-9, "{name}: {out} > {reach:?}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_initial_camera_keeps_the_whole_reach_on_screen() {
+    let mut rng = Rng::new(11);
+    for name in EXAMPLE_NAMES {
+        let world = world_after(name, 0);
+        let mut stage = Stage::new(None);
+        stage.set_robot(world.robot().clone()).unwrap();
+        let reach = stage.reach();
+        let camera = stage.camera();
+        for (w, h) in [(100.0, 100.0), (160.0, 100.0), (400.0, 225.0)] {
+            for _ in 0..200 {
+                let p = reach.center + reach.radius * rng.unit3();
+                let [x, y] = camera.project(p.as_vec3(), w, h).unwrap();
+                let inside = (0.0..=w).contains(&x) && (0.0..=h).contains(&y);
+                assert!(inside, "{name} {w}x{h}: {p} lands at ({x}, {y})");
+            }
+        }
+    }
+}
+
+#[test]
+fn planar_examples_get_the_top_view_and_the_others_3d() {
+    for name in EXAMPLE_NAMES {
+        let world = world_after(name, 0);
+        let mut stage = Stage::new(None);
+        stage.set_robot(world.robot().clone()).unwrap();
+        let planar = ["planar-transition", "chattering", "sliding-point"].contains(&name);
+        let expected = if planar { View::Top } else { View::Orbit };
+        assert_eq!(stage.camera().view, expected, "{name}");
+        // A view fixed at creation wins.
+        let mut fixed = Stage::new(Some(View::Side));
+        fixed.set_robot(world.robot().clone()).unwrap();
+        assert_eq!(fixed.camera().view, View::Side, "{name}");
+    }
+    // Tilting the base of a planar arm makes it a 3D drawing.
+    let mut robot = world_after("planar-transition", 0).robot().clone();
+    robot.base = glam::DAffine3::from_rotation_x(0.3);
+    let mut stage = Stage::new(None);
+    stage.set_robot(robot).unwrap();
+    assert_eq!(stage.camera().view, View::Orbit);
+}
+
+fn count(items: impl Iterator<Item = [f32; 4]>, colors: &[[f32; 4]]) -> usize {
+    items.filter(|c| colors.contains(c)).count()
+}
+
+fn solid_colors(scene: &Scene) -> impl Iterator<Item = [f32; 4]> + '_ {
+    let capsules = scene.capsules.iter().map(|c| c.color);
+    capsules.chain(scene.spheres.iter().map(|s| s.color))
+}
+
+fn options() -> DrawOptions {
+    DrawOptions {
+        volumes: true,
+        nodes: true,
+        arrow_scale: 0.4,
+        plane_extent: 1.0,
+    }
+}
+
+#[test]
+fn the_scene_of_every_example_has_one_mark_per_item() {
+    let mut control_points = 0;
+    for name in EXAMPLE_NAMES {
+        let world = world_after(name, 150);
+        let state = DrawState::from(world.state());
+        let mut scene = Scene::new();
+        build_scene(&mut scene, &state, &options(), None, [0.0; 3]);
+        let segments = state.skeleton.segments.len();
+        let spine = count(solid_colors(&scene), &[style::SPINE]);
+        let volumes = count(solid_colors(&scene), &[style::VOLUME]);
+        let nodes = count(solid_colors(&scene), &[style::NODE]);
+        assert_eq!((spine, volumes), (segments, segments), "{name}");
+        assert_eq!(nodes, state.skeleton.nodes.len(), "{name}");
+        let marks = count(
+            solid_colors(&scene),
+            &[style::CONTROL_POINT, style::TRANSITIONING],
+        );
+        let lines = count(scene.lines.iter().map(|l| l.color), &[style::DISTANCE_LINE]);
+        let n = state.control_points.len();
+        assert_eq!((marks, lines), (n, n), "{name}");
+        control_points += n;
+        let round = |p: &&PrimitiveSpec| {
+            matches!(
+                p,
+                PrimitiveSpec::Point(_)
+                    | PrimitiveSpec::Segment(_)
+                    | PrimitiveSpec::Sphere(_)
+                    | PrimitiveSpec::Capsule(_)
+                    | PrimitiveSpec::TaperedCapsule(_)
+            )
+        };
+        let parts = state.obstacles.iter().flat_map(|o| &o.parts);
+        let solids = count(
+            solid_colors(&scene),
+            &[Palette::OBSTACLE.solid, Palette::HUMAN.solid],
+        );
+        assert_eq!(solids, parts.clone().filter(round).count(), "{name}");
+        let planes = parts
+            .filter(|p| matches!(p, PrimitiveSpec::Plane(_)))
+            .count();
+        let plane_triangles = count(
+            scene.triangles.iter().map(|t| t.color),
+            &[Palette::OBSTACLE.plane],
+        );
+        assert_eq!(plane_triangles, 2 * planes, "{name}");
+    }
+    assert!(control_points > 0, "no example has a control point");
+}
+
+#[test]
+fn the_human_is_skin_coloured_unless_selected() {
+    let world = world_after("human-panda", 0);
+    let state = DrawState::from(world.state());
+    let human = state.obstacles.iter().find(|o| o.human).unwrap();
+    let mut scene = Scene::new();
+    build_scene(&mut scene, &state, &options(), None, [0.0; 3]);
+    let skin = count(solid_colors(&scene), &[Palette::HUMAN.solid]);
+    assert_eq!(skin, human.parts.len());
+    scene.clear();
+    build_scene(&mut scene, &state, &options(), Some(&human.id), [0.0; 3]);
+    assert_eq!(count(solid_colors(&scene), &[Palette::HUMAN.solid]), 0);
+    let selected = count(solid_colors(&scene), &[Palette::SELECTED.solid]);
+    assert_eq!(selected, human.parts.len());
+}
+
+#[test]
+fn a_recorded_state_object_draws_the_live_scene() {
+    for name in EXAMPLE_NAMES {
+        let world = world_after(name, 100);
+        let live = DrawState::from(world.state());
+        let json = serde_json::to_value(world.state()).unwrap();
+        let recorded: DrawState = serde_json::from_value(json.clone()).unwrap();
+        // Without `parts`, each obstacle is drawn from its shape.
+        let mut bare = json;
+        for o in bare["obstacles"].as_array_mut().unwrap() {
+            o.as_object_mut().unwrap().remove("parts");
+        }
+        let bare: DrawState = serde_json::from_value(bare).unwrap();
+        let draw = |s: &DrawState| {
+            let mut scene = Scene::new();
+            build_scene(&mut scene, s, &options(), Some("none"), [0.1, 0.2, 0.0]);
+            scene
+        };
+        let scene = draw(&live);
+        assert_eq!(scene, draw(&recorded), "{name}");
+        assert_eq!(scene, draw(&bare), "{name}");
+    }
+}
+
+#[test]
+fn fit_keeps_the_robot_and_reachable_obstacles_in_view() {
+    let mut obstacle_points = 0;
+    for name in EXAMPLE_NAMES {
+        let world = world_after(name, 0);
+        let mut stage = Stage::new(None);
+        stage.set_robot(world.robot().clone()).unwrap();
+        let state = DrawState::from(world.state());
+        let points = skeleton_avoidance::view::fit_points(&state, &stage.reach());
+        obstacle_points += points.len() - state.skeleton.nodes.len();
+        stage.draw(state);
+        for (aspect, fill) in [(1.5, 0.6), (0.7, 0.9)] {
+            stage.fit(fill, aspect);
+            let (w, h) = (100.0 * aspect, 100.0);
+            let camera = stage.camera();
+            for p in &points {
+                let [x, y] = camera.project(DVec3::from(*p).as_vec3(), w, h).unwrap();
+                let inside = (0.0..=w).contains(&x) && (0.0..=h).contains(&y);
+                assert!(inside, "{name} {aspect}: {p:?} at ({x}, {y})");
+            }
+        }
+    }
+    assert!(obstacle_points > 0, "no example frames an obstacle");
+}
+
+#[test]
+fn set_joints_needs_a_robot_and_the_right_length() {
+    let mut stage = Stage::new(None);
+    let e = stage.set_joints(vec![0.0; 3]).unwrap_err();
+    assert_eq!(e.to_string(), "setJoints: no robot; call setRobot first");
+    let world = world_after("planar-transition", 0);
+    stage.set_robot(world.robot().clone()).unwrap();
+    assert!(stage.set_joints(vec![0.0; 2]).is_err());
+    assert!(stage.set_joints(vec![0.0, f64::NAN, 0.0]).is_err());
+    stage.set_joints(vec![0.1, 0.2, 0.3]).unwrap();
+    assert_eq!(stage.q(), [0.1, 0.2, 0.3]);
+    // The robot's own skeleton is drawn: 3 spines, 3 volumes.
+    let spines = count(solid_colors(stage.scene()), &[style::SPINE]);
+    assert_eq!(spines, 3);
+}
+
+#[test]
+fn the_sliding_point_of_a_point_task_is_drawn_on_its_link() {
+    for name in EXAMPLE_NAMES {
+        let world = world_after(name, 300);
+        let state = world.state();
+        let tasks = world.scenario().task.as_slice();
+        let points = tasks.iter().filter(|t| t.point_at(0.0).is_some()).count();
+        assert_eq!(state.sliding_points.len(), points, "{name}");
+        let drawn = DrawState::from(state);
+        let mut scene = Scene::new();
+        build_scene(&mut scene, &drawn, &options(), None, [0.0; 3]);
+        let marks: Vec<_> = scene
+            .spheres
+            .iter()
+            .filter(|s| s.color == style::SLIDING_POINT)
+            .collect();
+        assert_eq!(marks.len(), points, "{name}");
+        // Each mark lies on the skeleton's spine.
+        for m in marks {
+            let c = glam::Vec3::from(m.center).as_dvec3();
+            let on_spine = drawn.skeleton.segments.iter().any(|s| {
+                let (a, b) = (
+                    DVec3::from(drawn.skeleton.nodes[s.from]),
+                    DVec3::from(drawn.skeleton.nodes[s.to]),
+                );
+                let t = ((c - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                (a + t * (b - a)).distance(c) < 1e-6
+            });
+            assert!(on_spine, "{name}: {c} is off the skeleton");
+        }
+    }
+    let sliding = world_after("sliding-point", 0).state();
+    assert_eq!(sliding.sliding_points.len(), 1);
+}
