@@ -379,6 +379,76 @@ export interface PickResult {
   distance: number;
 }
 
+// ---- Monte Carlo studies ----
+
+/** Options of `monteCarlo`. */
+export interface MonteCarloOptions {
+  /** Number of runs, 1..=10000 in one call. */
+  runs: number;
+  /** Seed of the study, an integer in 0..=2^53 − 1 (default 0). */
+  seed?: number;
+  /** Keep every run's row in the report (default false). */
+  rows?: boolean;
+}
+
+/** Options of `monteCarloRuns`: runs `from .. from + count − 1` of a study. */
+export interface MonteCarloRunsOptions {
+  seed?: number;
+  /** First run (default 0). */
+  from?: number;
+  /** Number of runs, 1..=10000. */
+  count: number;
+}
+
+/** One run of a study. */
+export interface MonteCarloRow {
+  run: number;
+  seed: number;
+  /** Smallest true clearance over every control step (m); null when nothing came within reach. */
+  minClearance: number | null;
+  contactWhileMoving: boolean;
+  stopped: boolean;
+  chattering: boolean;
+  /** The monitor raised transitionTooSlow. */
+  transitionTooSlow: boolean;
+  switches: number;
+  switchesPerSecond: number;
+  /** Smallest time to collision − remaining transition time (s); null when no transition met an approach. */
+  transitionSlack: number | null;
+}
+
+/** How often something happened, with a 95 % Wilson interval. */
+export interface MonteCarloProbability {
+  count: number;
+  p: number;
+  low: number;
+  high: number;
+}
+
+/** The distributions of a study. */
+export interface MonteCarloReport {
+  runs: number;
+  seed: number;
+  /** Quantiles of each run's smallest clearance (m); null where a run out of reach falls. */
+  minClearance: {
+    min: number | null;
+    p01: number | null;
+    p05: number | null;
+    p50: number | null;
+    p95: number | null;
+    max: number | null;
+    mean: number | null;
+    outOfReach: number;
+  };
+  contactWhileMoving: MonteCarloProbability;
+  stop: MonteCarloProbability;
+  chattering: MonteCarloProbability;
+  transitionTooSlow: MonteCarloProbability;
+  switchesPerSecond: { mean: number; max: number };
+  worstTransitionSlack: number | null;
+  rows?: MonteCarloRow[];
+}
+
 /** A point of the skeleton picked with a ray: DH values usable in `controller.pinned`. */
 export interface SkeletonPickResult extends DhPoint {
   /** Index of the skeleton segment. */
@@ -406,6 +476,12 @@ export function distance(a: Primitive, b: Primitive): DistanceResult;
 export function simulate(scenario: Scenario): Trace;
 export function exampleScenario(name: string): Scenario;
 export function exampleScenarioNames(): string[];
+/** `runs` copies of `scenario` with independent sensing seeds, reduced to distributions. */
+export function monteCarlo(scenario: Scenario, options: MonteCarloOptions): MonteCarloReport;
+/** A block of runs of a study (for a progress bar); merge the rows with `monteCarloMerge`. */
+export function monteCarloRuns(scenario: Scenario, options: MonteCarloRunsOptions): MonteCarloRow[];
+/** The report of rows 0..n − 1 of one study, in any order. */
+export function monteCarloMerge(rows: MonteCarloRow[], options?: { rows?: boolean }): MonteCarloReport;
 
 /** A live simulation; JavaScript owns it: call `free()` when done. */
 export class World {

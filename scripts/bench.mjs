@@ -6,6 +6,7 @@
 //
 //   npm run bench [-- --tables]   (--tables skips the criterion runs)
 import fs from 'node:fs';
+import os from 'node:os';
 import path from 'node:path';
 import { createRequire } from 'node:module';
 import { spawnSync } from 'node:child_process';
@@ -23,7 +24,7 @@ const quick = process.argv.includes('--tables');
 if (!ensureTools()) process.exit(1);
 for (const b of quick ? [] : benches) {
   console.log(`\n=== cargo bench --bench ${b}`);
-  if (run('cargo', ['bench', '-p', 'skeleton-avoidance', '--bench', b]) !== 0) process.exit(1);
+  if (run('cargo', ['bench', '-p', 'skeleton-avoidance', '--features', 'parallel', '--bench', b]) !== 0) process.exit(1);
 }
 if (buildWasm('node') !== 0) process.exit(1);
 
@@ -32,7 +33,7 @@ const sa = require(path.join(repo, 'crate', 'pkg-node', 'skeleton_avoidance.js')
 
 /** One native round of bench `bench` in its batch mode: `{ id: ns per step }`. */
 function nativeRound(bench) {
-  const r = spawnSync('cargo', ['bench', '-q', '-p', 'skeleton-avoidance', '--bench', bench], {
+  const r = spawnSync('cargo', ['bench', '-q', '-p', 'skeleton-avoidance', '--features', 'parallel', '--bench', bench], {
     cwd: repo,
     encoding: 'utf8',
     env: { ...process.env, SA_BATCH_ROUND: '1' },
@@ -104,3 +105,28 @@ table(
   },
   5,
 );
+
+// Monte Carlo throughput: runs per second of a 2 s scenario (lwr4 at 1 kHz,
+// noisy sensing), natively on one thread and on every core (rayon), and in
+// wasm under Node (one thread: a wasm module has no threads here).
+{
+  const rounds = 3;
+  const native = {};
+  const wasm = [];
+  for (let k = 0; k < rounds; k++) {
+    for (const [id, ns] of Object.entries(nativeRound('monte_carlo'))) (native[id] ??= []).push(ns);
+    const runs = 4;
+    sa.benchMonteCarlo(1); // warm-up
+    const t0 = process.hrtime.bigint();
+    sa.benchMonteCarlo(runs);
+    wasm.push(Number(process.hrtime.bigint() - t0) / runs);
+  }
+  const perSecond = (ns) => (1e9 / ns).toFixed(1).padStart(10);
+  console.log('\n=== Monte Carlo: runs per second of a 2 s scenario (lwr4, 1 kHz, noisy sensing)');
+  console.log(`(${rounds} alternating native/wasm rounds; medians; ${os.availableParallelism()} cores on this machine)`);
+  console.log(`${'study'.padEnd(26)} ${'runs/s'.padStart(10)} ${'vs 1 thread'.padStart(12)}`);
+  const one = median(native['monte_carlo/1-thread'] ?? [NaN]);
+  for (const [id, xs] of [...Object.entries(native), ['monte_carlo/wasm (Node)', wasm]]) {
+    console.log(`${id.padEnd(26)} ${perSecond(median(xs))} ${(one / median(xs)).toFixed(2).padStart(12)}`);
+  }
+}

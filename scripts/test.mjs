@@ -17,14 +17,17 @@ const testFiles = (dir) =>
 
 const layers = [
   ['fmt', 'cargo fmt --check', () => run('cargo', ['fmt', '--all', '--check'])],
+  // Natively every feature is on: `parallel` (rayon) is native only and
+  // `render` compiles only for wasm32; without `parallel` the study code is
+  // linted and tested in the wasm32 layers.
   ['clippy-native', 'clippy -D warnings, native, all targets', () =>
-    run('cargo', ['clippy', '--workspace', '--all-targets', '--', '-D', 'warnings'])],
+    run('cargo', ['clippy', '--workspace', '--all-targets', '--all-features', '--', '-D', 'warnings'])],
   ['clippy-wasm32', 'clippy -D warnings, wasm32, with and without the renderer', () => {
     const args = ['clippy', '--workspace', '--lib', '--tests', '--target', 'wasm32-unknown-unknown'];
     const lints = ['--', '-D', 'warnings'];
     return run('cargo', [...args, '--all-features', ...lints]) || run('cargo', [...args, ...lints]);
   }],
-  ['cargo-test', 'native unit, integration and doc tests', () => run('cargo', ['test', '--workspace'])],
+  ['cargo-test', 'native unit, integration and doc tests', () => run('cargo', ['test', '--workspace', '--all-features'])],
   ['doc', 'cargo doc --no-deps with RUSTDOCFLAGS=-D warnings (broken links, missing docs)', () =>
     run('cargo', ['doc', '--workspace', '--no-deps'], { env: { RUSTDOCFLAGS: '-D warnings' } })],
   ['wasm-node', 'wasm-pack test --node: the numerics compiled to wasm', () =>

@@ -8,6 +8,7 @@
 import { h } from './dom.js';
 import { PALETTE, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
 import { downloadScenario } from './scenario-io.js';
+import { buildDependability, refreshDependability } from './dependability.js';
 
 /**
  * The presets offered before the library is loaded; `fillPresets` replaces
@@ -141,6 +142,7 @@ export function buildPanel(pg) {
     field('on chattering', p.onChattering), field('lock time (s)', p.lockTime),
     h('div', { class: 'row' }, button('apply-sensing', 'Apply (restarts)', () => pg.applySensing())),
     p.worldMessage,
+    buildDependability(pg),
     h('h3', {}, 'Robot'),
     field('preset', p.preset), field('convention', p.convention),
     h('table', { class: 'dh', id: 'dh-table' }, h('caption', {}, 'DH table (m, rad)'),
@@ -246,6 +248,7 @@ export function refreshPanel(pg) {
   pg.refreshPinned();
   refreshObstacleList(pg);
   refreshSelected(pg);
+  refreshDependability(pg);
 }
 
 function buildJointSliders(pg) {

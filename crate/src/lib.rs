@@ -22,6 +22,7 @@
 //! | [`dependability`] | sensing models, first-order uncertainty propagation, switch probability, chattering (stop or lock, every selection mode), time to collision, events | §IV |
 //! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples | — |
 //! | [`world`] | a live simulation: the control step as a pipeline of stages, obstacle edits, picking, `simulate` | — |
+//! | [`study`] | Monte Carlo studies: many runs of a scenario with independent sensing seeds, reduced to distributions (clearance quantiles, probabilities of contact, stop, chattering), in parallel with the feature `parallel`, merged from shards | §IV |
 //! | [`linalg`] | small dense matrices, symmetric eigen-decomposition, the weighted damped least-squares inverse; depends on nothing else in the crate | §III-A |
 //! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
 //! | [`distance`] | primitives (`primitive/`: one file per group of figures, `spec.rs` for the JS description), closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
@@ -64,6 +65,7 @@ pub mod math;
 pub mod rng;
 pub mod scenario;
 pub mod skeleton;
+pub mod study;
 pub mod transition;
 pub mod view;
 pub mod workloads;

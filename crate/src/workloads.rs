@@ -71,3 +71,27 @@ impl KinematicsStep {
         sum
     }
 }
+
+/// Simulated time of one run of [`monte_carlo_workload`] (s).
+pub const MONTE_CARLO_DURATION: f64 = 2.0;
+
+/// The Monte Carlo benchmark's scenario: the `lwr4-elbow` example (a sphere
+/// driven at the elbow while the end effector goes to a goal, 1 kHz) cut
+/// to [`MONTE_CARLO_DURATION`], every obstacle sensed with a fixed bias
+/// within 1 cm, white noise of 2 mm and correlated noise of 3 mm per axis.
+/// Shared by the criterion bench and the wasm export, so that runs per
+/// second compare like with like.
+///
+/// # Errors
+/// None in practice (the example is valid).
+pub fn monte_carlo_workload() -> Result<crate::scenario::Scenario, crate::scenario::ScenarioError> {
+    let mut s = crate::scenario::example("lwr4-elbow")?;
+    s.duration = MONTE_CARLO_DURATION;
+    s.sensing.default = Some(crate::dependability::SensingSpec {
+        bias_bound: Some(0.01),
+        sigma: Some(0.002),
+        correlated_sigma: Some(0.003),
+        ..crate::dependability::SensingSpec::default()
+    });
+    Ok(s)
+}

@@ -47,6 +47,8 @@ const SCENARIOS = sa.exampleScenarioNames().map((n) => {
   s.duration = Math.min(s.duration, 20 * s.dt);
   return s;
 });
+// Rows of a two-run study (monteCarloMerge's input).
+const ROWS = sa.monteCarloRuns(SCENARIOS[0], { seed: 1, count: 2 });
 const OBSTACLE = { id: 'fuzz', shape: { type: 'sphere', center: [0.3, 0.3, 0.3], radius: 0.05 }, motion: { type: 'linear', velocity: [0, 0, 0.1] } };
 const CONTROLLER = { mode: 'torque', influenceDistance: 0.3, damping: { epsilon: 0.05, lambdaMax: 0.05 } };
 const URDF = `<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>`;
@@ -81,6 +83,9 @@ const FUNCTIONS = {
   robotFromUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, { tip: 'b' })],
   benchControlStep: (r) => [arg(r, r.int(3)), r.chance(0.5) ? undefined : arg(r, r.int(3))],
   benchKinematicsStep: (r) => [arg(r, 'planar3'), arg(r, r.int(3))],
+  monteCarlo: (r) => [arg(r, r.pick(SCENARIOS)), arg(r, { runs: 1 + r.int(2), seed: r.int(5), rows: r.chance(0.5) })],
+  monteCarloRuns: (r) => [arg(r, r.pick(SCENARIOS)), arg(r, { seed: r.int(5), from: r.int(3), count: 1 + r.int(2) })],
+  monteCarloMerge: (r) => [arg(r, ROWS), r.chance(0.5) ? undefined : arg(r, { rows: true })],
 };
 
 /** World methods: [name, args, edits?]. */
@@ -124,7 +129,11 @@ const describe = (args) =>
     try {
       return typeof a === 'bigint' || typeof a === 'symbol' ? String(a) : JSON.stringify(a)?.slice(0, 120);
     } catch {
-      return Object.prototype.toString.call(a);
+      try {
+        return Object.prototype.toString.call(a);
+      } catch {
+        return '(unreadable)';
+      }
     }
   });
 

@@ -23,7 +23,8 @@ function sh(cmd, args, cwd) {
 const MAIN_TS = `
 import {
   robotFromUrdf, robotPreset, forwardKinematics, skeleton, distance, simulate, World,
-  type RobotSpec, type Primitive, type Scenario, type Trace, type WorldState,
+  monteCarlo, monteCarloRuns, monteCarloMerge,
+  type RobotSpec, type Primitive, type Scenario, type Trace, type WorldState, type MonteCarloReport,
 } from 'skeleton-avoidance';
 
 const xml = \`<robot name="two">
@@ -55,6 +56,8 @@ const world = new World({ ...scenario, robot: robotPreset('planar3'), q0: [0.3, 
 world.advance(0.001, 10);
 const state: WorldState = world.state();
 world.free();
+const study: MonteCarloReport = monteCarlo(scenario, { runs: 2, seed: 1 });
+const merged = monteCarloMerge(monteCarloRuns(scenario, { seed: 1, count: 2 }));
 
 // Type errors tsc must report (never called: they would throw at run time).
 export function misuses(): void {
@@ -64,11 +67,14 @@ export function misuses(): void {
   robotFromUrdf(xml, { end: 'tool' });
   // @ts-expect-error: a scenario needs dt and duration.
   simulate({ robot, obstacles: [] });
+  // @ts-expect-error: a study needs its number of runs.
+  monteCarlo(scenario, { seed: 1 });
 }
 
 console.log(JSON.stringify({
   names, tip, segments: sk.segments.length, d, samples: trace.samples.length,
   t: state.t, radius: robot.joints[0].radius,
+  studyRuns: study.runs, sameStudy: JSON.stringify(merged) === JSON.stringify(study),
 }));
 `;
 
@@ -100,6 +106,8 @@ test('the packed package installs, type-checks with tsc and runs in Node', () =>
     assert.ok(r.samples > 0);
     assert.ok(Math.abs(r.t - 0.01) < 1e-12);
     assert.equal(r.radius, 0.06);
+    assert.equal(r.studyRuns, 2);
+    assert.equal(r.sameStudy, true, 'monteCarloRuns + monteCarloMerge = monteCarlo');
     // Benchmark helpers are not part of the package's API.
     const entry = fs.readFileSync(path.join(dir, 'node_modules', 'skeleton-avoidance', 'index.node.js'), 'utf8');
     assert.ok(!/bench/i.test(entry));

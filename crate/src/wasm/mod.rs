@@ -11,6 +11,7 @@ mod boundary;
 mod convert;
 mod kinematics;
 mod messages;
+mod study;
 mod urdf;
 mod world;
 

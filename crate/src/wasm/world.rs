@@ -12,7 +12,7 @@ use crate::error::FieldError;
 use crate::scenario::{self, ObstacleSpec, Scenario, ScenarioError, ShapeSpec};
 use crate::world::{self, World};
 
-fn scenario_error(e: &ScenarioError) -> JsError {
+pub(super) fn scenario_error(e: &ScenarioError) -> JsError {
     let f = e.field();
     js_error(&FieldError::new(
         f.field.clone(),
@@ -20,7 +20,7 @@ fn scenario_error(e: &ScenarioError) -> JsError {
     ))
 }
 
-fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
+pub(super) fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
     if !value.is_object() {
         return Err(js_error(&FieldError::new("scenario", "expected an object")));
     }

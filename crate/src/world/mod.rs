@@ -44,12 +44,14 @@ use crate::skeleton::Skeleton;
 mod edit;
 mod monitor;
 mod obstacles;
+mod probe;
 mod state;
 mod step;
 mod track;
 mod uncertainty;
 
 use obstacles::ObstacleState;
+pub use probe::StepProbe;
 pub use state::{
     ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick, SkeletonState,
     Uncertainty, WorldState,
