@@ -300,3 +300,52 @@ fn the_sliding_point_of_a_point_task_is_drawn_on_its_link() {
     let sliding = world_after("sliding-point", 0).state();
     assert_eq!(sliding.sliding_points.len(), 1);
 }
+
+#[test]
+fn a_noisy_control_point_shows_its_witness_interval_along_its_segment() {
+    // The chattering example senses its blob with a bounded error.
+    let world = world_after("chattering", 3);
+    let state = world.state();
+    let noisy: Vec<_> = state
+        .control_points
+        .iter()
+        .filter_map(|c| {
+            c.sigma
+                .map(|s| (c.position, (s.d * s.d + s.a * s.a).sqrt()))
+        })
+        .collect();
+    assert!(!noisy.is_empty());
+    let drawn = DrawState::from(state);
+    let mut scene = Scene::new();
+    build_scene(&mut scene, &drawn, &options(), None, [0.0; 3]);
+    let intervals: Vec<_> = scene
+        .capsules
+        .iter()
+        .filter(|c| c.color == style::WITNESS_INTERVAL)
+        .collect();
+    assert_eq!(intervals.len(), noisy.len());
+    for (c, (p, sigma)) in intervals.iter().zip(&noisy) {
+        let (a, b) = (
+            glam::Vec3::from(c.a).as_dvec3(),
+            glam::Vec3::from(c.b).as_dvec3(),
+        );
+        let p = DVec3::from(*p);
+        // Centred on the point (unless clipped by the segment's end), 2σ
+        // either side, on the spine.
+        let len = a.distance(b);
+        assert!(len <= 4.0 * sigma + 1e-5, "{len} vs σ {sigma}");
+        assert!(len > 0.0);
+        let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+        assert!((a + (b - a) * t).distance(p) < 1e-5);
+    }
+    // Exactly sensed: nothing drawn.
+    let exact = DrawState::from(world_after("lwr4-elbow", 3).state());
+    let mut scene = Scene::new();
+    build_scene(&mut scene, &exact, &options(), None, [0.0; 3]);
+    assert!(
+        scene
+            .capsules
+            .iter()
+            .all(|c| c.color != style::WITNESS_INTERVAL)
+    );
+}

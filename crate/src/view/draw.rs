@@ -117,6 +117,30 @@ pub struct ControlPointView {
     /// Id of the obstacle it answers.
     #[serde(default)]
     pub obstacle: String,
+    /// Propagated standard deviations from the sensing error, when its
+    /// obstacle is sensed with one.
+    #[serde(default)]
+    pub sigma: Option<SigmaView>,
+}
+
+/// The part of a control point's propagated deviations the view draws.
+#[derive(Clone, Copy, Debug, Default, Deserialize)]
+pub struct SigmaView {
+    /// Of its witness's DH value `d'` (m).
+    #[serde(default)]
+    pub d: f64,
+    /// Of its witness's DH value `a'` (m).
+    #[serde(default)]
+    pub a: f64,
+}
+
+impl SigmaView {
+    /// Standard deviation of the witness's place along its link (m): its
+    /// `d'` or its `a'` moves, the other is fixed by the segment.
+    #[must_use]
+    pub fn along(&self) -> f64 {
+        (self.d * self.d + self.a * self.a).sqrt()
+    }
 }
 
 /// The uncertainty region of a sensed obstacle.
@@ -162,6 +186,7 @@ impl From<WorldState> for DrawState {
                 repulsion: Some(c.repulsion),
                 transitioning: c.transitioning,
                 obstacle: c.obstacle,
+                sigma: c.sigma.map(|s| SigmaView { d: s.d, a: s.a }),
             })
             .collect();
         let uncertainty = state
@@ -213,6 +238,12 @@ pub mod style {
     pub const REPULSION: [f32; 4] = [0.0, 0.62, 0.62, 1.0];
     /// The sliding point of a point task.
     pub const SLIDING_POINT: [f32; 4] = [0.15, 0.35, 0.90, 1.0];
+    /// The interval along the skeleton where a control point's witness may
+    /// be, given the sensing error (± [`SIGMA_SPAN`] standard deviations).
+    pub const WITNESS_INTERVAL: [f32; 4] = [0.95, 0.45, 0.05, 0.75];
+    /// Half-length of the witness interval in standard deviations (about
+    /// 95 % of a Gaussian).
+    pub const SIGMA_SPAN: f64 = 2.0;
     /// Radius of the spine (m).
     pub const SPINE_RADIUS: f32 = 0.012;
     /// Radius of a node mark (m).
@@ -248,6 +279,7 @@ pub fn build_scene(
     draw_uncertainty(scene, state);
     for cp in &state.control_points {
         draw_control_point(scene, cp, options.arrow_scale);
+        draw_witness_interval(scene, &state.skeleton, cp);
     }
     for p in &state.sliding_points {
         scene.spheres.push(Sphere {
@@ -323,6 +355,48 @@ fn draw_uncertainty(scene: &mut Scene, state: &DrawState) {
             });
         }
     }
+}
+
+/// The interval along the skeleton, around a control point, where its
+/// witness may be given the sensing error: ± [`style::SIGMA_SPAN`]
+/// propagated standard deviations along the segment the point is on,
+/// clipped to that segment (a thick orange stretch of the spine).
+fn draw_witness_interval(scene: &mut Scene, skeleton: &SkeletonView, cp: &ControlPointView) {
+    let Some(sigma) = cp.sigma.map(|s| s.along()) else {
+        return;
+    };
+    if !(sigma.is_finite() && sigma > 0.0) {
+        return;
+    }
+    let p = DVec3::from(cp.position);
+    // The segment whose spine passes through the point.
+    let mut best: Option<(f64, DVec3, DVec3, f64)> = None;
+    for s in &skeleton.segments {
+        let (Some(&a), Some(&b)) = (skeleton.nodes.get(s.from), skeleton.nodes.get(s.to)) else {
+            continue;
+        };
+        let (a, b) = (DVec3::from(a), DVec3::from(b));
+        let l2 = (b - a).length_squared();
+        if l2 <= 0.0 {
+            continue;
+        }
+        let t = ((p - a).dot(b - a) / l2).clamp(0.0, 1.0);
+        let d = (a + (b - a) * t).distance(p);
+        if best.is_none_or(|x| d < x.0) {
+            best = Some((d, a, b, t));
+        }
+    }
+    let Some((_, a, b, t)) = best else { return };
+    let len = a.distance(b);
+    let half = (style::SIGMA_SPAN * sigma / len).min(1.0);
+    let (t0, t1) = ((t - half).max(0.0), (t + half).min(1.0));
+    let r = 1.6 * style::SPINE_RADIUS;
+    scene.capsules.push(Capsule {
+        a: v((a + (b - a) * t0).to_array()),
+        b: v((a + (b - a) * t1).to_array()),
+        radius: [r, r],
+        color: style::WITNESS_INTERVAL,
+    });
 }
 
 /// A control point, the line to its witness and its repulsion arrow

@@ -27,7 +27,7 @@ mod stage;
 
 pub use camera::{Camera, View};
 pub use draw::{
-    ControlPointView, DrawOptions, DrawState, ObstacleView, SegmentView, SkeletonView,
+    ControlPointView, DrawOptions, DrawState, ObstacleView, SegmentView, SigmaView, SkeletonView,
     UncertaintyView, build_scene, style,
 };
 pub use framing::{Reach, fit_points, is_planar};
