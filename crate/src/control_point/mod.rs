@@ -125,30 +125,7 @@ impl DhPoint {
     /// # Errors
     /// As [`DhPoint::validate`].
     pub fn validate_reachable(&self, robot: &Robot) -> Result<(), FieldError> {
-        let n = robot.dof();
-        if self.link < 1 || self.link > n {
-            return Err(FieldError::new(
-                "link",
-                format!("{} is out of range 1..={n}", self.link),
-            ));
-        }
-        finite("d", self.d)?;
-        finite("a", self.a)?;
-        let (lo, hi) = d_reach(robot, self.link);
-        if self.d < lo - SPAN_TOLERANCE || self.d > hi + SPAN_TOLERANCE {
-            return Err(FieldError::new(
-                "d",
-                format!("{} is outside the link's reach [{lo}, {hi}]", self.d),
-            ));
-        }
-        let (lo, hi) = a_span(robot, self.link);
-        if self.a < lo - SPAN_TOLERANCE || self.a > hi + SPAN_TOLERANCE {
-            return Err(FieldError::new(
-                "a",
-                format!("{} is outside the link's span [{lo}, {hi}]", self.a),
-            ));
-        }
-        Ok(())
+        self.check(robot, |_| d_reach(robot, self.link), "reach")
     }
 
     /// The point with `d'` clamped to the row's span at the configuration
@@ -170,6 +147,17 @@ impl DhPoint {
     /// `link: 9 is not a link of this robot (links 1 to 7)`, `d: not a finite number`,
     /// `a: 0.5 is outside the link's span [0, 0.3]`.
     pub fn validate(&self, robot: &Robot, frames: &Frames) -> Result<(), FieldError> {
+        self.check(robot, |link| d_span(frames, link), "span")
+    }
+
+    /// The checks of [`DhPoint::validate`] with `d'` bounded by
+    /// `d_range(link)`, named `word` in the message.
+    fn check(
+        &self,
+        robot: &Robot,
+        d_range: impl Fn(usize) -> (f64, f64),
+        word: &str,
+    ) -> Result<(), FieldError> {
         let n = robot.dof();
         if self.link < 1 || self.link > n {
             return Err(FieldError::new(
@@ -179,11 +167,11 @@ impl DhPoint {
         }
         finite("d", self.d)?;
         finite("a", self.a)?;
-        let (lo, hi) = d_span(frames, self.link);
+        let (lo, hi) = d_range(self.link);
         if self.d < lo - SPAN_TOLERANCE || self.d > hi + SPAN_TOLERANCE {
             return Err(FieldError::new(
                 "d",
-                format!("{} is outside the link's span [{lo}, {hi}]", self.d),
+                format!("{} is outside the link's {word} [{lo}, {hi}]", self.d),
             ));
         }
         let (lo, hi) = a_span(robot, self.link);
