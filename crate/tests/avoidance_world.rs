@@ -19,6 +19,9 @@ use skeleton_avoidance::scenario::{
 };
 use skeleton_avoidance::world::{World, simulate};
 
+mod common;
+use common::trace_hash;
+
 /// Largest distance of the end effector from the goal in the elbow test (m).
 const EE_TOLERANCE: f64 = 0.01;
 
@@ -296,39 +299,6 @@ fn lock_policy_holds_the_control_point_on_one_segment() {
             .any(|e| matches!(e.kind, EventKind::Unlock { .. })),
         "the lock ends"
     );
-}
-
-/// FNV-1a over the trace's numbers (bit patterns) and strings, in order.
-fn trace_hash(trace: &Trace) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |bytes: &[u8]| {
-        for b in bytes {
-            h ^= u64::from(*b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    };
-    for s in &trace.samples {
-        eat(&s.t.to_bits().to_le_bytes());
-        for q in &s.q {
-            eat(&q.to_bits().to_le_bytes());
-        }
-        eat(&s.min_clearance.unwrap_or(f64::NAN).to_bits().to_le_bytes());
-        for c in &s.control_points {
-            for x in c.position {
-                eat(&x.to_bits().to_le_bytes());
-            }
-            eat(&(c.link as u64).to_le_bytes());
-            eat(&c.d.to_bits().to_le_bytes());
-            eat(&c.a.to_bits().to_le_bytes());
-            eat(c.obstacle.as_bytes());
-            eat(&c.distance.to_bits().to_le_bytes());
-        }
-    }
-    for e in &trace.events {
-        eat(&e.t.to_bits().to_le_bytes());
-        eat(format!("{:?}", e.kind).as_bytes());
-    }
-    h
 }
 
 /// The pinned hashes: the same natively and in wasm (this test runs in both).
