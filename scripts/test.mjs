@@ -56,6 +56,11 @@ const only = (() => {
   return i > 0 ? new Set(process.argv[i + 1].split(',')) : null;
 })();
 
+// A full run builds every target natively and for wasm32 once: incremental
+// caches would only add about 1.3 GB of disk for nothing. A value the caller
+// set is kept.
+process.env.CARGO_INCREMENTAL ??= '0';
+
 const t0 = performance.now();
 const needBrowser = !only || only.has('browser');
 if (!ensureTools({ browser: needBrowser })) {
