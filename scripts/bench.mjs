@@ -4,7 +4,10 @@
 // under Node, so that both see the same machine load and the ratios are
 // measured in this run. Machines are shared and noisy: medians, not means.
 //
+// Last, the playground's frame rate in headless Chromium (bench-frames.mjs).
+//
 //   npm run bench [-- --tables]   (--tables skips the criterion runs)
+//   npm run bench -- --frames     (only the frame-rate table)
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -13,6 +16,7 @@ import { spawnSync } from 'node:child_process';
 import { repo, run } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
+import { frameTable } from './bench-frames.mjs';
 
 const benches = fs
   .readdirSync(path.join(repo, 'crate', 'benches'))
@@ -21,12 +25,23 @@ const benches = fs
 
 // --tables: only the native/wasm tables, without the full criterion runs.
 const quick = process.argv.includes('--tables');
-if (!ensureTools()) process.exit(1);
+if (!ensureTools({ browser: true })) process.exit(1);
+if (process.argv.includes('--frames')) {
+  const ok = await frameTable(exampleNames());
+  process.exit(ok ? 0 : 1);
+}
 for (const b of quick ? [] : benches) {
   console.log(`\n=== cargo bench --bench ${b}`);
   if (run('cargo', ['bench', '-p', 'skeleton-avoidance', '--features', 'parallel', '--bench', b]) !== 0) process.exit(1);
 }
 if (buildWasm('node') !== 0) process.exit(1);
+
+/** The shipped examples, in the crate's order (scenarios/*.json). */
+function exampleNames() {
+  const list = fs.readFileSync(path.join(repo, 'crate', 'src', 'scenario', 'examples.rs'), 'utf8');
+  const names = list.match(/EXAMPLE_NAMES[^=]*=\s*\[([^\]]*)\]/)?.[1].match(/"[^"]+"/g) ?? [];
+  return names.map((n) => n.slice(1, -1));
+}
 
 const require = createRequire(import.meta.url);
 const sa = require(path.join(repo, 'crate', 'pkg-node', 'skeleton_avoidance.js'));
@@ -130,3 +145,5 @@ table(
     console.log(`${id.padEnd(26)} ${perSecond(median(xs))} ${(one / median(xs)).toFixed(2).padStart(12)}`);
   }
 }
+
+if (!(await frameTable(exampleNames()))) process.exit(1);

@@ -5,8 +5,8 @@
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
-use super::geometry::{self, LineInstance, MeshVertex, SolidInstance};
-use crate::view::{Grid, Scene, Triangle};
+use super::geometry::{self, LineInstance, MeshVertex, SolidInstance, TemplateRange};
+use crate::view::{Camera, Grid, Scene, Triangle, View};
 
 /// A GPU buffer of instances that grows (by doubling) when a frame needs more.
 #[derive(Debug)]
@@ -64,12 +64,65 @@ pub(super) struct Counts {
     pub mesh_blend: u32,
 }
 
+/// How the camera sees the scene: the eye (for sorting back to front) and
+/// the size of things on screen (for the solids' level of detail).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Lens {
+    pub eye: Vec3,
+    /// Pixels a metre spans at unit distance (perspective) or anywhere
+    /// (orthographic).
+    pixels_per_metre: f32,
+    perspective: bool,
+}
+
+impl Lens {
+    /// The lens of `camera` on a drawing buffer `height` pixels high.
+    pub fn new(camera: &Camera, height: f32) -> Self {
+        let perspective = camera.view == View::Orbit;
+        let half = if perspective {
+            (0.5 * camera.fov_y).tan()
+        } else {
+            camera.half_height()
+        };
+        Self {
+            eye: camera.eye(),
+            pixels_per_metre: 0.5 * height / half.max(1e-6),
+            perspective,
+        }
+    }
+
+    /// The level of detail of a solid: its larger radius in pixels, seen
+    /// from its nearer end.
+    fn level(&self, s: &SolidInstance) -> usize {
+        let radius = s.p0_r0[3].max(s.p1_r1[3]);
+        let mut pixels = radius * self.pixels_per_metre;
+        if self.perspective {
+            let near = Vec3::from_slice(&s.p0_r0[..3])
+                .distance(self.eye)
+                .min(Vec3::from_slice(&s.p1_r1[..3]).distance(self.eye));
+            pixels /= (near - radius).max(1e-3);
+        }
+        geometry::level_for(pixels)
+    }
+}
+
+/// Consecutive solid instances drawn with one level of the template.
+#[derive(Clone, Debug)]
+pub(super) struct Run {
+    pub level: usize,
+    pub instances: std::ops::Range<u32>,
+}
+
 /// Every buffer the pipelines draw from.
 #[derive(Debug)]
 pub(super) struct Buffers {
     pub solid_template: wgpu::Buffer,
     pub solid_indices: wgpu::Buffer,
-    pub solid_index_count: u32,
+    /// Where each level of detail lies in the template buffers.
+    pub levels: [TemplateRange; 3],
+    /// Opaque solids by level, then translucent ones back to front.
+    pub opaque_runs: Vec<Run>,
+    pub blend_runs: Vec<Run>,
     pub line_template: wgpu::Buffer,
     pub solids: InstanceBuffer,
     pub lines: InstanceBuffer,
@@ -81,7 +134,7 @@ pub(super) struct Buffers {
 impl Buffers {
     /// The templates, and empty instance buffers.
     pub fn new(device: &wgpu::Device) -> Self {
-        let (template, template_indices) = geometry::capsule_template();
+        let (template, template_indices, levels) = geometry::capsule_templates();
         let solid_template = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("capsule template"),
             contents: bytemuck::cast_slice(&template),
@@ -104,7 +157,9 @@ impl Buffers {
         Self {
             solid_template,
             solid_indices,
-            solid_index_count: template_indices.len() as u32,
+            levels,
+            opaque_runs: Vec::new(),
+            blend_runs: Vec::new(),
             line_template,
             solids: instances("solid instances", std::mem::size_of::<SolidInstance>()),
             lines: instances("line instances", std::mem::size_of::<LineInstance>()),
@@ -114,9 +169,17 @@ impl Buffers {
         }
     }
 
-    /// Uploads `scene`; translucent items are sorted back to front from `eye`.
-    pub fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, eye: Vec3) {
-        let solids = solid_instances(scene, eye, &mut self.counts);
+    /// Uploads `scene`; translucent items are sorted back to front from the
+    /// lens's eye.
+    pub fn upload(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        lens: &Lens,
+    ) {
+        let (solids, opaque, blend) = solid_instances(scene, lens, &mut self.counts);
+        (self.opaque_runs, self.blend_runs) = (opaque, blend);
         self.solids
             .upload(device, queue, bytemuck::cast_slice(&solids));
         // The grid is drawn as one-pixel hairlines: rasterised far faster
@@ -130,7 +193,7 @@ impl Buffers {
         let lines = line_instances(scene, &mut self.counts);
         self.lines
             .upload(device, queue, bytemuck::cast_slice(&lines));
-        let vertices = mesh_vertices(scene, eye, &mut self.counts);
+        let vertices = mesh_vertices(scene, lens.eye, &mut self.counts);
         self.mesh
             .upload(device, queue, bytemuck::cast_slice(&vertices));
     }
@@ -140,9 +203,14 @@ fn finite(values: &[[f32; 4]]) -> bool {
     values.iter().flatten().all(|x| x.is_finite())
 }
 
-/// Capsules and spheres as instances, opaque first, then translucent ones
-/// back to front; items with a non-finite value are dropped.
-fn solid_instances(scene: &Scene, eye: Vec3, counts: &mut Counts) -> Vec<SolidInstance> {
+/// Capsules and spheres as instances, opaque first (grouped by level of
+/// detail), then translucent ones back to front; items with a non-finite
+/// value are dropped. Returns the instances and the runs of each group.
+fn solid_instances(
+    scene: &Scene,
+    lens: &Lens,
+    counts: &mut Counts,
+) -> (Vec<SolidInstance>, Vec<Run>, Vec<Run>) {
     let solid = |a: [f32; 3], b: [f32; 3], radius: [f32; 2], color: [f32; 4]| SolidInstance {
         p0_r0: [a[0], a[1], a[2], radius[0].max(0.0)],
         p1_r1: [b[0], b[1], b[2], radius[1].max(0.0)],
@@ -158,17 +226,37 @@ fn solid_instances(scene: &Scene, eye: Vec3, counts: &mut Counts) -> Vec<SolidIn
         .map(|s| solid(s.center, s.center, [s.radius; 2], s.color));
     let all = capsules
         .chain(spheres)
-        .filter(|s| finite(&[s.p0_r0, s.p1_r1, s.color]));
-    let (mut opaque, mut blend): (Vec<_>, Vec<_>) = all.partition(|s| s.color[3] >= 1.0);
+        .filter(|s| finite(&[s.p0_r0, s.p1_r1, s.color]))
+        .map(|s| (lens.level(&s), s));
+    let (mut opaque, mut blend): (Vec<_>, Vec<_>) = all.partition(|(_, s)| s.color[3] >= 1.0);
+    opaque.sort_by_key(|(level, _)| *level);
     let depth = |s: &SolidInstance| {
         let mid = 0.5 * (Vec3::from_slice(&s.p0_r0[..3]) + Vec3::from_slice(&s.p1_r1[..3]));
-        mid.distance_squared(eye)
+        mid.distance_squared(lens.eye)
     };
-    blend.sort_by(|x, y| depth(y).total_cmp(&depth(x)));
+    blend.sort_by(|(_, x), (_, y)| depth(y).total_cmp(&depth(x)));
     counts.solid_opaque = opaque.len() as u32;
     counts.solid_blend = blend.len() as u32;
-    opaque.extend(blend);
-    opaque
+    let opaque_runs = runs(&opaque, 0);
+    let blend_runs = runs(&blend, opaque.len() as u32);
+    let instances = opaque.into_iter().chain(blend).map(|(_, s)| s).collect();
+    (instances, opaque_runs, blend_runs)
+}
+
+/// Consecutive items of one level, as runs of instance indices from `first`.
+fn runs(items: &[(usize, SolidInstance)], first: u32) -> Vec<Run> {
+    let mut out: Vec<Run> = Vec::new();
+    for (k, &(level, _)) in items.iter().enumerate() {
+        let index = first + k as u32;
+        match out.last_mut() {
+            Some(run) if run.level == level => run.instances.end = index + 1,
+            _ => out.push(Run {
+                level,
+                instances: index..index + 1,
+            }),
+        }
+    }
+    out
 }
 
 /// Lines as instances, opaque ones first (drawn without blending).

@@ -45,44 +45,109 @@ pub(crate) struct MeshVertex {
     pub color: [f32; 4],
 }
 
-/// Rings per hemisphere (from the pole to the equator, inclusive).
-const RINGS: u32 = 7;
-/// Vertices around the axis.
-const SECTORS: u32 = 18;
+/// One level of detail of the capsule template.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Level {
+    /// Rings per hemisphere (from the pole to the equator, inclusive).
+    rings: u32,
+    /// Vertices around the axis.
+    sectors: u32,
+    /// The largest on-screen radius (px) drawn at this level.
+    up_to_px: f32,
+}
+
+/// The levels, coarsest first. A software rasteriser (the only one some
+/// browsers have, e.g. SwiftShader in headless Chromium) spends its time per
+/// triangle rather than per pixel, so a solid a few pixels across gets few
+/// triangles: each level keeps the silhouette within about 0.75 px of the
+/// true circle (sagitta `r (1 − cos(π/sectors))`) up to its radius.
+pub(crate) const LEVELS: [Level; 3] = [
+    Level {
+        rings: 3,
+        sectors: 10,
+        up_to_px: 12.0,
+    },
+    Level {
+        rings: 5,
+        sectors: 14,
+        up_to_px: 30.0,
+    },
+    Level {
+        rings: 7,
+        sectors: 18,
+        up_to_px: f32::INFINITY,
+    },
+];
+
+/// The level for a solid whose larger radius spans `pixels` on screen.
+pub(crate) fn level_for(pixels: f32) -> usize {
+    LEVELS
+        .iter()
+        .position(|l| pixels <= l.up_to_px)
+        .unwrap_or(LEVELS.len() - 1)
+}
+
+/// Where one level lies in the shared template buffers.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct TemplateRange {
+    pub first_index: u32,
+    pub index_count: u32,
+}
+
+/// Every level's template in one vertex and one index buffer, with the
+/// range of each. Indices count from the start of the vertex buffer (WebGL2
+/// has no base vertex).
+pub(crate) fn capsule_templates() -> (Vec<SolidVertex>, Vec<u16>, [TemplateRange; 3]) {
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    let mut ranges = [TemplateRange::default(); 3];
+    for (range, level) in ranges.iter_mut().zip(LEVELS) {
+        let (v, i) = capsule_template(level.rings, level.sectors);
+        let base = vertices.len() as u16;
+        *range = TemplateRange {
+            first_index: indices.len() as u32,
+            index_count: i.len() as u32,
+        };
+        vertices.extend(v);
+        indices.extend(i.iter().map(|k| base + k));
+    }
+    (vertices, indices, ranges)
+}
 
 /// The capsule template as indexed triangles (a vertex grid shared by its
-/// neighbours, so each is shaded once; WebGL2 and WebGPU alike).
+/// neighbours, so each is shaded once; WebGL2 and WebGPU alike), with
+/// `rings` per hemisphere and `sectors` around the axis.
 ///
 /// Two hemispheres, the one at `a` (pointing along −z) and the one at `b`
 /// (along +z), each with its own equator ring, joined by a band: with equal
 /// end points and radii it is a sphere.
-pub(crate) fn capsule_template() -> (Vec<SolidVertex>, Vec<u16>) {
+fn capsule_template(rings: u32, sectors: u32) -> (Vec<SolidVertex>, Vec<u16>) {
     // Rows of unit directions, from the −z pole to the +z pole; each row
     // carries the side it belongs to. The two equator rows are the band.
     let mut rows: Vec<(f32, f32)> = Vec::new(); // (polar angle from +z, side)
-    for i in 0..=RINGS {
-        let t = i as f32 / RINGS as f32;
+    for i in 0..=rings {
+        let t = i as f32 / rings as f32;
         rows.push((std::f32::consts::PI - t * std::f32::consts::FRAC_PI_2, 0.0));
     }
-    for i in 0..=RINGS {
-        let t = i as f32 / RINGS as f32;
+    for i in 0..=rings {
+        let t = i as f32 / rings as f32;
         rows.push((std::f32::consts::FRAC_PI_2 * (1.0 - t), 1.0));
     }
-    let columns = SECTORS + 1; // the seam is duplicated
+    let columns = sectors + 1; // the seam is duplicated
     let mut vertices = Vec::with_capacity(rows.len() * columns as usize);
     for &(polar, side) in &rows {
         let (s, c) = polar.sin_cos();
         for j in 0..columns {
-            let phi = j as f32 / SECTORS as f32 * std::f32::consts::TAU;
+            let phi = j as f32 / sectors as f32 * std::f32::consts::TAU;
             vertices.push(SolidVertex {
                 dir: [s * phi.cos(), s * phi.sin(), c],
                 side,
             });
         }
     }
-    let mut indices = Vec::with_capacity((rows.len() - 1) * SECTORS as usize * 6);
+    let mut indices = Vec::with_capacity((rows.len() - 1) * sectors as usize * 6);
     for r in 0..rows.len() as u32 - 1 {
-        for j in 0..SECTORS {
+        for j in 0..sectors {
             let a = (r * columns + j) as u16;
             let b = a + 1;
             let c = a + columns as u16;

@@ -39,6 +39,9 @@ struct ViewerState {
     adapter: String,
     surface_format: String,
     sample_count: u32,
+    /// Triangles the last upload draws (solids at their level of detail,
+    /// flat figures and line quads; grid hairlines not counted).
+    triangles: u64,
     view: &'static str,
     width: u32,
     height: u32,
@@ -388,7 +391,7 @@ impl Viewer {
     }
 
     /// A snapshot for tests and tools: `{ backend, surfaceFormat,
-    /// sampleCount, view, width, height, dof, q, nodes, screenNodes }`, where
+    /// sampleCount, triangles, view, width, height, dof, q, nodes, screenNodes }`, where
     /// `screenNodes` are the skeleton nodes in drawing-buffer pixels.
     ///
     /// # Errors
@@ -402,6 +405,7 @@ impl Viewer {
             adapter: self.renderer.adapter_name().to_owned(),
             surface_format: format!("{:?}", self.renderer.surface_format()),
             sample_count: self.renderer.sample_count(),
+            triangles: self.renderer.triangles(),
             view: camera.view.name(),
             width,
             height,
