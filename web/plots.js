@@ -5,10 +5,16 @@
 // log. Text is 12 px, dark on white (contrast above 7:1).
 
 /** Fifteen colours that stay apart from each other on white (lines, not text). */
-const COLOURS = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#8c564b', '#e377c2',
+export const COLOURS = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#8c564b', '#e377c2',
   '#7f7f7f', '#bcbd22', '#393b79', '#ad494a', '#637939', '#843c39', '#5254a3'];
 const TEXT = '#1d2330';
 const MUTED = '#4a5160';
+/** Reference lines (influence distance, limits) and their labels. */
+const REFERENCE = '#6b4f00';
+/** Every colour text is drawn in on the plots' white (tests check the contrast). */
+export const TEXT_COLOURS = { text: TEXT, muted: MUTED, reference: REFERENCE };
+/** The size of every text on the plots (px). */
+export const FONT_PX = 12;
 /** Seconds of history kept (for the mark and the readout). */
 const KEEP = 60;
 
@@ -194,7 +200,7 @@ export class TimePlot {
   }
 
   axes(ctx, { W, H, box, t0, t1, lo, hi, y }) {
-    ctx.font = '12px system-ui, sans-serif';
+    ctx.font = `${FONT_PX}px system-ui, sans-serif`;
     ctx.lineWidth = 1;
     const pad = 0.06 / 1.12 * (hi - lo);
     for (const v of [lo + pad, (lo + hi) / 2, hi - pad]) {
@@ -214,7 +220,7 @@ export class TimePlot {
       ctx.stroke();
     }
     for (const r of this.refs) {
-      ctx.strokeStyle = '#6b4f00';
+      ctx.strokeStyle = REFERENCE;
       ctx.setLineDash([6, 4]);
       ctx.beginPath();
       ctx.moveTo(box.left, y(r.v));
@@ -222,7 +228,7 @@ export class TimePlot {
       ctx.stroke();
       ctx.setLineDash([]);
       if (r.label) {
-        ctx.fillStyle = '#6b4f00';
+        ctx.fillStyle = REFERENCE;
         ctx.fillText(r.label, W - box.right - ctx.measureText(r.label).width - 2, y(r.v) - 3);
       }
     }

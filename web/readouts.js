@@ -70,7 +70,7 @@ export const readoutMethods = {
 const ms = (x) => `${(x * 1000).toFixed(0)} mm`;
 
 /** The text over the view: time and state, clearance, time to collision, control points. */
-function hudLines(s, running, influence) {
+export function hudLines(s, running, influence) {
   const ttc = s.timeToCollision;
   let ttcText = '—  (nothing closing in)';
   if (Number.isFinite(ttc)) ttcText = ttc > 10 ? '> 10 s' : `${ttc.toFixed(2)} s`;
