@@ -273,7 +273,13 @@ impl Stage {
     pub fn scene(&mut self) -> &Scene {
         let scene = &mut self.scene;
         scene.clear();
-        scene.grid = self.display.grid.then(Grid::default);
+        // The ground grid reaches well past the arm (whole metres, 1 … 10 m
+        // from the origin), so that a framed view shows no edge of it.
+        let half_extent = (2.0 * self.reach.radius).ceil().clamp(1.0, 10.0) as f32;
+        scene.grid = self.display.grid.then(|| Grid {
+            half_extent,
+            ..Grid::default()
+        });
         let options = DrawOptions {
             volumes: self.display.volumes,
             nodes: self.display.nodes,
