@@ -95,6 +95,7 @@ test('bad input throws an Error naming the field and the reason', () => {
     [{ type: 'point', p: [0, Infinity, 0] }, p, /^a\.p\[1\]: not a finite number$/],
     [{ type: 'point', p: [0, 'x', 0] }, p, /^a\.p\[1\]: /],
     [{ type: 'point', p: [0, 0] }, p, /^a\.p: /],
+    [{ type: 'point', p: [0, 0, 0, 5] }, p, /^a\.p: too many elements: got 4, more than this field holds$/],
     [{ type: 'sphere', center: [0, 0, 0] }, p, /^a: missing `radius` \(a sphere needs center, radius\)$/],
     [{ type: 'point', p: [0, 0, 0], radius: 1 }, p, /^a: `radius` is not a field of a point/],
     [{ type: 'point', p: [0, 0, 0], colour: 1 }, p, /^a\.colour: unknown field "colour"/],

@@ -6,7 +6,7 @@
 //!
 //! | `type` | reference |
 //! |---|---|
-//! | `hold` (default) | the end effector of `chain` stays where it starts |
+//! | `hold` (default) | the main chain's end effector stays where it starts (`hold` takes no `chain`) |
 //! | `goal` | the end effector reaches `position` (and `orientation`) |
 //! | `trajectory` | the end effector follows `points` at `times` (piecewise linear) |
 //! | `point` | a control point at DH values moving from `from` to `to` over `duration` (a quintic: rest to rest, C2) holds `position` (default: where it is at `t = 0`) |
@@ -43,7 +43,7 @@ pub struct DhValues {
     try_from = "super::tagged::TaskFields"
 )]
 pub enum TaskSpec {
-    /// Keep the end effector of `chain` where it starts (default).
+    /// Keep the main chain's end effector where it starts (default).
     #[default]
     Hold,
     /// Reach `position` (m), and `orientation` (`[x, y, z, w]`) if given.

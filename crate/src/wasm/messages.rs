@@ -31,6 +31,10 @@ pub fn plain_reason(reason: &str) -> String {
     if let Some(rest) = reason.strip_prefix("invalid length ")
         && let Some((n, expected)) = rest.split_once(", expected ")
     {
+        // A fixed-size array given too many elements says only "fewer".
+        if expected.trim() == "fewer elements in array" {
+            return format!("too many elements: got {n}, more than this field holds");
+        }
         return format!("expected {}, got {n} elements", expected_words(expected));
     }
     if let Some(rest) = reason.strip_prefix("unknown variant `")
@@ -226,6 +230,14 @@ mod tests {
         assert_eq!(
             plain_reason("invalid value: integer `-1`, expected usize"),
             "expected a whole number ≥ 0, got -1"
+        );
+        assert_eq!(
+            plain_reason("invalid length 4, expected fewer elements in array"),
+            "too many elements: got 4, more than this field holds"
+        );
+        assert_eq!(
+            plain_reason("invalid length 2, expected an array of length 3"),
+            "expected an array of length 3, got 2 elements"
         );
         assert_eq!(
             plain_reason("invalid type: map, expected a sequence"),
