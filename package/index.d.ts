@@ -473,6 +473,10 @@ export function skeleton(robot: RobotInput, q: JointVector): SkeletonResult;
 export function controlPoint(robot: RobotInput, q: JointVector, point: DhPoint, rates?: ControlPointRates): ControlPointResult;
 export function skeletonPoint(robot: RobotInput, q: JointVector, at: { segment: number; t: number }): DhPoint & { position: Vec3 };
 export function distance(a: Primitive, b: Primitive): DistanceResult;
+/** A figure's reference point: the point motions move and `moveObstacle` places. */
+export function referencePoint(shape: Shape): Vec3;
+/** The figure moved by `delta` (m), in the form it was given. */
+export function translateShape<S extends Shape>(shape: S, delta: Vec3): S;
 export function simulate(scenario: Scenario): Trace;
 export function exampleScenario(name: string): Scenario;
 export function exampleScenarioNames(): string[];

@@ -47,8 +47,10 @@ function moveObstacle(pg, drag, e) {
   }
   drag.y = px[1];
   if (len(delta) === 0) return true;
+  const moved = pg.guard(() => translateShape(drag.shape, delta));
+  if (!moved) return true;
   drag.point = add(drag.point, delta);
-  drag.shape = translateShape(drag.shape, delta);
+  drag.shape = moved;
   drag.moved = true;
   return pg.setShape(drag.id, drag.shape);
 }

@@ -14,10 +14,10 @@ import { sceneMethods } from './scene-edits.js';
 import { pinMethods, withoutPins } from './pinning.js';
 import { PRESETS, applyDh, buildPanel, fillPresets, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
 import { TimePlot } from './plots.js';
-import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
+import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, useLibrary } from './shapes.js';
 import { STYLE } from './style.js';
 
-export { PALETTE, PRESETS, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape };
+export { PALETTE, PRESETS, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, useLibrary };
 
 let wasmModule = null;
 
@@ -157,6 +157,7 @@ export class Playground {
   /** Loads the wasm, starts the viewer on `scenario` (an object or an example name). */
   async start(scenario) {
     this.wasm = await loadWasm();
+    useLibrary(this.wasm);
     if (typeof this.wasm.World !== 'function') {
       throw new Error('This build of the library has no simulation (World): the page needs the avoidance module.');
     }

@@ -158,7 +158,9 @@ export const sceneMethods = {
   editSelected(f) {
     if (!this.selected) return;
     const shape = this.shapeOf(this.selected);
-    if (shape && this.setShape(this.selected, f(shape))) this.refreshSelected();
+    // An edit the library refuses (a figure out of range) leaves it as it was.
+    const edited = shape && this.guard(() => f(shape));
+    if (edited && this.setShape(this.selected, edited)) this.refreshSelected();
   },
 
   select(id) {

@@ -1,5 +1,6 @@
-// Obstacle shapes as plain objects of the JS contract: move, scale, rotate,
-// their centre, and a new shape of each palette type sized for the arm.
+// Obstacle shapes as plain objects of the JS contract: move (the library's),
+// scale and rotate about the reference point (the library's), and a new
+// shape of each palette type sized for the arm.
 
 /** The obstacle types the panel offers, in the order of the keys 1 … 0. */
 export const PALETTE = ['point', 'segment', 'sphere', 'capsule', 'plane', 'rectangle', 'disk', 'polygon', 'box', 'human'];
@@ -20,28 +21,33 @@ function mapPoints(shape, f) {
   return out;
 }
 
-/** The shape moved by `delta` (m). */
-export function translateShape(shape, delta) {
-  const out = mapPoints(shape, (p) => add(p, delta));
-  if (shape.type === 'plane') out.offset = shape.offset - dot(shape.normal, delta);
-  return out;
+/**
+ * The library (the wasm module) that defines where a figure is and how it
+ * moves (`referencePoint`, `translateShape`); the page sets it once loaded.
+ */
+let library = null;
+
+/** Hands the loaded wasm module to the shape helpers. */
+export function useLibrary(wasm) {
+  library = wasm;
 }
 
-/** A representative point: the centre. */
+function lib() {
+  if (!library) throw new Error('the library is not loaded yet');
+  return library;
+}
+
+/** The shape moved by `delta` (m), as the library moves obstacles. */
+export function translateShape(shape, delta) {
+  return lib().translateShape(shape, delta);
+}
+
+/**
+ * The figure's reference point (the library's: the centre, the middle of a
+ * segment, a plane's point closest to the origin, a human's floor point).
+ */
 export function shapeCenter(shape) {
-  switch (shape.type) {
-    case 'point': return shape.p;
-    case 'segment': case 'capsule': case 'taperedCapsule': return mul(add(shape.a, shape.b), 0.5);
-    case 'plane': { const n = shape.normal; return mul(n, -shape.offset / dot(n, n)); }
-    case 'polygon': return mul(shape.vertices.reduce(add, [0, 0, 0]), 1 / shape.vertices.length);
-    default: {
-      if (isPoint(shape.center)) return shape.center;
-      if (isPoint(shape.position)) return shape.position;
-      const pts = [];
-      mapPoints(shape, (p) => { pts.push(p); return p; });
-      return pts.length ? mul(pts.reduce(add, [0, 0, 0]), 1 / pts.length) : [0, 0, 0];
-    }
-  }
+  return lib().referencePoint(shape);
 }
 
 /** The shape scaled by `s` about its centre. */

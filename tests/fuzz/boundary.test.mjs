@@ -79,6 +79,8 @@ const FUNCTIONS = {
   controlPoint: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q), arg(r, { link: 2, d: 0, a: 0.1 }), r.chance(0.5) ? undefined : arg(r, { qdot: q.map(() => 0.1), aRate: 0.1 })]; },
   skeletonPoint: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q), arg(r, { segment: 0, t: 0.5 })]; },
   distance: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, r.pick(PRIMITIVES))],
+  referencePoint: (r) => [arg(r, r.pick(PRIMITIVES))],
+  translateShape: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, [0.1, -0.2, 0.3])],
   simulate: (r) => [arg(r, r.pick(SCENARIOS))],
   robotFromUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, { tip: 'b' })],
   benchControlStep: (r) => [arg(r, r.int(3)), r.chance(0.5) ? undefined : arg(r, r.int(3))],

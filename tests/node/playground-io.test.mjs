@@ -1,9 +1,15 @@
 // The playground's pure helpers in Node: share links round-trip exactly and
-// refuse damaged input with readable messages; shape edits keep shapes valid.
+// refuse damaged input with readable messages; shape edits keep shapes valid
+// (moving and the reference point are the library's, as in the page).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
+import { createRequire } from 'node:module';
 import { decodeShare, encodeShare, parseScenarioText } from '../../web/scenario-io.js';
-import { defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, PALETTE } from '../../web/playground.js';
+import { defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, useLibrary, PALETTE } from '../../web/playground.js';
+
+const require = createRequire(import.meta.url);
+const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
+useLibrary(sa);
 
 const scenario = {
   robot: { preset: 'lwr4' },
@@ -52,6 +58,13 @@ test('shape edits: translate, scale and rotate about the centre', () => {
   const on = (p, s) => s.normal.reduce((acc, n, k) => acc + n * p[k], 0) + s.offset;
   assert.ok(Math.abs(on(c, plane)) < 1e-12);
   assert.ok(Math.abs(on([c[0] + 0.2, c[1], c[2]], moved)) < 1e-12);
+  // Every palette figure stays valid for the library after each edit.
+  for (const type of PALETTE) {
+    const s = defaultShape(type, c, 0.9);
+    for (const edited of [translateShape(s, [0.1, 0.2, 0]), scaleShape(s, 1.25), rotateShape(s, [0, 0, 1], 0.3)]) {
+      assert.equal(typeof sa.referencePoint(edited)[0], 'number', `${type} stays a valid figure`);
+    }
+  }
   const box = rotateShape(defaultShape('box', c, 1), [0, 0, 1], Math.PI / 2);
   const [x, y, z, w] = box.rotation;
   assert.ok(Math.abs(Math.hypot(x, y, z, w) - 1) < 1e-12 && Math.abs(z - Math.SQRT1_2) < 1e-12);

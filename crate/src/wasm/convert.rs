@@ -287,3 +287,23 @@ fn joints_are_objects(map: &serde_json::Map<String, serde_json::Value>) -> Resul
 pub fn finite_arg(field: &str, x: f64) -> Result<f64, JsError> {
     crate::error::finite(field, x).map_err(|e| js_error(&e))
 }
+
+/// A point `[x, y, z]` (m) within the coordinate domain.
+pub fn point3(field: &str, value: &JsValue) -> Result<glam::DVec3, JsError> {
+    let v = f64_vec(field, value)?;
+    if v.len() != 3 {
+        return Err(js_error(&FieldError::new(
+            field,
+            format!("expected [x, y, z], got {} numbers", v.len()),
+        )));
+    }
+    for (k, c) in v.iter().enumerate() {
+        crate::error::bounded(
+            &format!("{field}[{k}]"),
+            *c,
+            crate::distance::domain::MAX_COORDINATE,
+        )
+        .map_err(|e| js_error(&e))?;
+    }
+    Ok(glam::DVec3::new(v[0], v[1], v[2]))
+}

@@ -4,6 +4,7 @@
 //! `Error` whose message names the field and the reason.
 
 mod distance;
+mod figure;
 
 use wasm_bindgen::prelude::*;
 

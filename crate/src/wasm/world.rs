@@ -2,11 +2,10 @@
 //! `exampleScenario`, `exampleScenarioNames`, `benchControlStep`. Converts
 //! and validates only; the work is in [`crate::world`].
 
-use glam::DVec3;
 use wasm_bindgen::prelude::*;
 
 use super::boundary::{count_arg, guard_class, number_arg, string_arg};
-use super::convert::{f64_vec, from_json_at, js_error, object_from_js, refuse_positional, to_js};
+use super::convert::{from_json_at, js_error, object_from_js, point3, refuse_positional, to_js};
 use crate::dependability::SensingSpec;
 use crate::error::FieldError;
 use crate::scenario::{self, ObstacleSpec, Scenario, ScenarioError, ShapeSpec};
@@ -48,25 +47,6 @@ fn dt_arg(value: &JsValue) -> Result<f64, JsError> {
         )));
     }
     Ok(dt)
-}
-
-fn point3(field: &str, value: &JsValue) -> Result<DVec3, JsError> {
-    let v = f64_vec(field, value)?;
-    if v.len() != 3 {
-        return Err(js_error(&FieldError::new(
-            field,
-            format!("expected [x, y, z], got {} numbers", v.len()),
-        )));
-    }
-    for (k, c) in v.iter().enumerate() {
-        crate::error::bounded(
-            &format!("{field}[{k}]"),
-            *c,
-            crate::distance::domain::MAX_COORDINATE,
-        )
-        .map_err(|e| js_error(&e))?;
-    }
-    Ok(DVec3::new(v[0], v[1], v[2]))
 }
 
 /// Runs a scenario to its duration and returns the trace

@@ -145,7 +145,7 @@ pub struct BoxSpec {
     /// Half extents.
     pub half_extents: [f64; 3],
     /// Orientation quaternion `[x, y, z, w]` (identity when absent).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rotation: Option<[f64; 4]>,
 }
 

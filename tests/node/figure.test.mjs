@@ -1,0 +1,69 @@
+// referencePoint and translateShape against crate/pkg-node: where each kind
+// of figure is and how it moves, and the refusals naming the field.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { createRequire } from 'node:module';
+
+const require = createRequire(import.meta.url);
+const { referencePoint, translateShape, distance } = require('../../crate/pkg-node/skeleton_avoidance.js');
+
+const near = (a, b, tol = 1e-12) => a.every((x, k) => Math.abs(x - b[k]) <= tol);
+
+const FIGURES = [
+  [{ type: 'point', p: [1, 2, 3] }, [1, 2, 3]],
+  [{ type: 'segment', a: [0, 0, 0], b: [2, 0, 0] }, [1, 0, 0]],
+  [{ type: 'sphere', center: [0.5, -0.5, 1], radius: 0.1 }, [0.5, -0.5, 1]],
+  [{ type: 'capsule', a: [0, 0, 0], b: [0, 0, 1], radius: 0.1 }, [0, 0, 0.5]],
+  [{ type: 'taperedCapsule', a: [0, 0, 0], b: [0, 2, 0], radius: [0.1, 0.2] }, [0, 1, 0]],
+  [{ type: 'plane', normal: [0, 0, 2], offset: -1 }, [0, 0, 0.5]],
+  [{ type: 'rectangle', center: [1, 1, 0], axes: [[1, 0, 0], [0, 1, 0]], halfExtents: [0.2, 0.1] }, [1, 1, 0]],
+  [{ type: 'disk', center: [0, 1, 0], normal: [0, 0, 1], radius: 0.3 }, [0, 1, 0]],
+  [{ type: 'polygon', vertices: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]] }, [0.5, 0.5, 0]],
+  [{ type: 'box', center: [0.2, 0.3, 0.4], halfExtents: [0.1, 0.1, 0.1] }, [0.2, 0.3, 0.4]],
+  [{ type: 'human', position: [1, 0, 0], heading: 0, height: 1.75 }, [1, 0, 0]],
+];
+
+test('referencePoint: the centre, the middle, the vertex mean, the plane point nearest the origin, the floor point', () => {
+  for (const [shape, expected] of FIGURES) {
+    const p = referencePoint(shape);
+    assert.ok(Array.isArray(p) && p.length === 3, JSON.stringify(p));
+    assert.ok(near(p, expected), `${shape.type}: ${p} vs ${expected}`);
+  }
+});
+
+test('translateShape moves the reference point by delta and keeps the form of the figure', () => {
+  const delta = [0.25, -0.5, 0.125];
+  for (const [shape, expected] of FIGURES) {
+    const moved = translateShape(shape, delta);
+    assert.equal(moved.type, shape.type);
+    // A plane's reference point is its point nearest the origin: checked below.
+    if (shape.type !== 'plane') assert.ok(near(referencePoint(moved), expected.map((x, k) => x + delta[k])), `${shape.type} moved`);
+    for (const key of Object.keys(shape)) assert.ok(key in moved, `${shape.type}: keeps ${key}`);
+    if (shape.type !== 'plane' && shape.type !== 'human') {
+      // Distances to a far point change as a rigid translation implies.
+      const far = { type: 'point', p: [5, 5, 5] };
+      const before = distance(shape, { type: 'point', p: [5 - delta[0], 5 - delta[1], 5 - delta[2]] }).distance;
+      assert.ok(Math.abs(distance(moved, far).distance - before) < 1e-9, `${shape.type} moved rigidly`);
+    }
+  }
+  // A plane keeps its normal and shifts its offset: n·(x + δ) + offset' = 0.
+  const plane = translateShape({ type: 'plane', normal: [0, 0, 1], offset: -1 }, [0, 0, 0.5]);
+  assert.deepEqual(plane.normal, [0, 0, 1]);
+  assert.ok(Math.abs(plane.offset + 1.5) < 1e-15);
+});
+
+test('bad figures and deltas throw an Error naming the field', () => {
+  const ball = { type: 'sphere', center: [0, 0, 0], radius: 0.1 };
+  const cases = [
+    [() => referencePoint({ type: 'sphere', center: [0, 0, 0], radius: -1 }), /^shape\.radius: must be > 0$/],
+    [() => referencePoint({ type: 'cone' }), /^shape\.type: unknown/],
+    [() => referencePoint(null), /^shape: /],
+    [() => referencePoint({ type: 'point', p: [0, NaN, 0] }), /^shape\.p\[1\]: not a finite number$/],
+    [() => referencePoint({ type: 'human', position: [0, 0, 0], height: 0 }), /^shape\.height: must be > 0/],
+    [() => translateShape(ball, [0, 0]), /^delta: expected \[x, y, z\], got 2 numbers$/],
+    [() => translateShape(ball, 'up'), /^delta: /],
+    [() => translateShape(ball, [0, Infinity, 0]), /^delta\[1\]: /],
+    [() => translateShape(ball, [1e300, 0, 0]), /^delta\[0\]: /],
+  ];
+  for (const [f, re] of cases) assert.throws(f, (e) => e instanceof Error && re.test(e.message), String(f));
+});
