@@ -351,6 +351,8 @@ export interface StateControlPoint extends TraceControlPoint {
   repulsion: Vec3;
   transitioning: boolean;
   target?: DhPoint;
+  /** The DH table of its shorter manipulator, one `{ d, a }` per row (fig. 5). */
+  table: { d: number; a: number }[];
 }
 
 export interface WorldState {

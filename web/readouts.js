@@ -1,7 +1,6 @@
 // What the widget reads out of the world each frame, as methods mixed into
 // the Playground: the plots' samples, the events, the text over the view,
 // and the plots' cursor moved to an event.
-import { robotRows } from './panel.js';
 
 export const readoutMethods = {
   /** The influence distance in force (m): the scenario's or the library's default. */
@@ -24,16 +23,19 @@ export const readoutMethods = {
       seen.set(cp.obstacle, k);
       this.plots.clearance.push(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, t, cp.distance, { sigma: cp.sigma?.distance });
     }
+    // Fig. 5: the DH table of the control point's shorter manipulator (the
+    // library's `table`), main-chain rows; the `d` rows only for robots
+    // with a non-zero d.
     const cp = s.controlPoints.find((c) => c.transitioning) ?? s.controlPoints[0];
-    const rows = robotRows(this.robotSpec ?? { joints: [] }).filter((r) => r.chain === 'main');
-    const anyD = rows.some((r) => r.joint.d !== 0);
-    rows.forEach(({ joint: j }, i) => {
+    const joints = this.robotSpec?.joints ?? [];
+    const anyD = joints.some((j) => j.d !== 0);
+    joints.forEach((_, i) => {
       const row = i + 1;
-      const value = (full, cut) => (!cp ? NaN : row < cp.link ? full : row === cp.link ? cut : 0);
+      const r = cp?.table?.[i] ?? { d: NaN, a: NaN };
       // The control point's own row carries the propagated σ of its witness as a band.
       const sd = (x) => ({ sigma: cp && row === cp.link ? x : 0 });
-      this.plots.dh.push(`a${row}`, t, value(j.a, cp?.a), sd(cp?.sigma?.a));
-      if (anyD) this.plots.dh.push(`d${row}`, t, value(j.d, cp?.d), sd(cp?.sigma?.d));
+      this.plots.dh.push(`a${row}`, t, r.a, sd(cp?.sigma?.a));
+      if (anyD) this.plots.dh.push(`d${row}`, t, r.d, sd(cp?.sigma?.d));
     });
     Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
   },

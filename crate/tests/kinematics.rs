@@ -696,3 +696,70 @@ fn pose_clik_reaches_position_and_orientation() {
         }
     }
 }
+
+/// A control point is the end effector of its shorter manipulator: the DH
+/// table `DhPoint::table` gives, put back into the robot (tool removed), an
+/// end effector at the point, in both conventions; on a torso the other
+/// arm's rows are zero and the shared rows full.
+#[test]
+fn control_point_table_is_its_shorter_manipulator() {
+    let mut rng = Rng::new(17);
+    for name in presets::NAMES {
+        let spec = presets::preset(name).unwrap();
+        let revolute = spec.joints.iter().all(|j| j.kind == JointType::Revolute);
+        if !spec.branches.is_empty() || !revolute {
+            continue;
+        }
+        let robot = Robot::from_spec(&spec).unwrap();
+        for _ in 0..40 {
+            let q = random_q(&robot, &mut rng);
+            let frames = robot.forward(&q).unwrap();
+            let link = 1 + (rng.next_u64() % robot.dof() as u64) as usize;
+            let cp = random_point(&robot, &frames, link, &mut rng);
+            let table = cp.table(&robot, &frames);
+            assert_eq!(table.len(), robot.dof());
+            let mut shorter = spec.clone();
+            shorter.tool = None;
+            for (j, row) in shorter.joints.iter_mut().zip(&table) {
+                j.d = row.d;
+                j.a = row.a;
+            }
+            let tip = Robot::from_spec(&shorter)
+                .unwrap()
+                .forward(&q)
+                .unwrap()
+                .end_effector()
+                .translation;
+            let p = cp.position(&robot, &frames);
+            assert!(close(tip, p, 1e-12), "{name} link {link}: {tip:?} vs {p:?}");
+        }
+    }
+    // dual-arm: a point on the second arm keeps the torso's rows, zeroes the first arm's.
+    let robot = robot("dual-arm");
+    let frames = robot.forward(&vec![0.3; robot.dof()]).unwrap();
+    let last = robot.dof();
+    let cp = DhPoint {
+        link: last,
+        d: 0.0,
+        a: 0.01,
+    };
+    let table = cp.table(&robot, &frames);
+    for k in 1..=last {
+        let row = table[k - 1];
+        if k == last {
+            assert_eq!((row.d, row.a), (0.0, 0.01));
+        } else if robot.is_ancestor(k, last) {
+            assert_eq!((row.d, row.a), (frames.d[k - 1], robot.joints[k - 1].a));
+        } else {
+            assert_eq!(
+                (row.d, row.a),
+                (0.0, 0.0),
+                "row {k} is not on the point's chain"
+            );
+        }
+    }
+    assert!(
+        (1..last).any(|k| !robot.is_ancestor(k, last)),
+        "the other arm's rows exist"
+    );
+}

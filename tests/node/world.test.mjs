@@ -110,6 +110,30 @@ test('a World steps, reports its state and accepts edits', () => {
   w.free();
 });
 
+test('each control point carries the DH table of its shorter manipulator (fig. 5)', () => {
+  for (const name of ['planar-transition', 'lwr4-elbow']) {
+    const scenario = sa.exampleScenario(name);
+    const robot = scenario.robot.preset ? sa.robotPreset(scenario.robot.preset) : scenario.robot;
+    const w = new sa.World(scenario);
+    let seen = 0;
+    for (let k = 0; k < 40; k++) {
+      w.advance(scenario.dt, 50);
+      for (const cp of w.state().controlPoints) {
+        seen += 1;
+        assert.equal(cp.table.length, robot.joints.length);
+        // The rows before its link as in the robot, its own row cut to (d', a'), the rows after it zero.
+        cp.table.forEach((row, i) => {
+          const j = robot.joints[i];
+          const expected = i + 1 < cp.link ? { d: j.d, a: j.a } : i + 1 === cp.link ? { d: cp.d, a: cp.a } : { d: 0, a: 0 };
+          assert.deepEqual(row, expected, `${name}: row ${i + 1} of a point on link ${cp.link}`);
+        });
+      }
+    }
+    assert.ok(seen > 0, `${name}: control points were seen`);
+    w.free();
+  }
+});
+
 test('invalid edits throw with the field and leave the World as it was', () => {
   const w = new sa.World(sa.exampleScenario('lwr4-elbow'));
   w.advance(0.001, 5);

@@ -54,6 +54,15 @@ pub struct DhPoint {
     pub a: f64,
 }
 
+/// One row `(d, a)` of a control point's DH table ([`DhPoint::table`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DhRow {
+    /// `d` of the row (m).
+    pub d: f64,
+    /// `a` of the row (m).
+    pub a: f64,
+}
+
 /// Position of a control point and its three Jacobians, each stored as `n`
 /// columns of 3-vectors.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -182,6 +191,32 @@ impl DhPoint {
             ));
         }
         Ok(())
+    }
+
+    /// The DH table of the point's shorter manipulator (§III-A), `(d, a)`
+    /// per row in the robot's row order: the rows that carry link `link`
+    /// as they are (`d` with the joint value of a prismatic row), row
+    /// `link` cut to `(d', a')`, every other row zero. Fig. 5 of the paper
+    /// plots these values over time. No validation: `link` must be in range.
+    #[must_use]
+    pub fn table(&self, robot: &Robot, frames: &Frames) -> Vec<DhRow> {
+        (1..=robot.dof())
+            .map(|k| {
+                if k == self.link {
+                    DhRow {
+                        d: self.d,
+                        a: self.a,
+                    }
+                } else if robot.is_ancestor(k, self.link) {
+                    DhRow {
+                        d: frames.d[k - 1],
+                        a: robot.joints[k - 1].a,
+                    }
+                } else {
+                    DhRow { d: 0.0, a: 0.0 }
+                }
+            })
+            .collect()
     }
 
     /// World position of the point (no validation: `link` must be in range):

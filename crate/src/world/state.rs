@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use super::World;
-use crate::control_point::DhPoint;
+use crate::control_point::{DhPoint, DhRow};
 use crate::dependability::{Event, PointSigma};
 use crate::distance::PrimitiveSpec;
 use crate::scenario::{Sample, ShapeSpec, TracePoint, translated};
@@ -41,6 +41,9 @@ pub struct ControlPointState {
     /// [`crate::dependability::propagate`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sigma: Option<PointSigma>,
+    /// The DH table of its shorter manipulator, `{ d, a }` per row
+    /// ([`DhPoint::table`]); filled when the state is read.
+    pub table: Vec<DhRow>,
 }
 
 /// A skeleton segment in [`WorldState`].
@@ -196,6 +199,14 @@ impl World {
         let mut control_points = self.points.clone();
         for (c, s) in control_points.iter_mut().zip(sigmas) {
             c.sigma = s;
+        }
+        for c in &mut control_points {
+            let point = DhPoint {
+                link: c.link,
+                d: c.d,
+                a: c.a,
+            };
+            c.table = point.table(&self.robot, &self.frames);
         }
         let obstacles = self
             .obstacles

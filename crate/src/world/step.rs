@@ -236,6 +236,7 @@ impl World {
                 transitioning: target.is_some(),
                 target,
                 sigma: None,
+                table: Vec::new(),
             });
         }
         self.points = states;
