@@ -491,9 +491,21 @@ export class Playground {
     if (!this.viewer) return;
     // A portrait view (a phone) is limited by its width: fill more of it.
     const portrait = this.canvas.clientHeight > 1.2 * this.canvas.clientWidth;
-    this.guard(() => this.viewer.fit?.(portrait ? 0.85 : 0.75));
+    this.guard(() => this.viewer.fit?.(portrait ? 0.9 : 0.85, this.overlayTop()));
     this.cameraTouched = false;
     this.edited = true;
+  }
+
+  /**
+   * Drawing-buffer pixels at the top of the view covered by the stats and
+   * the HUD (and a small margin): a fit frames the scene below them.
+   */
+  overlayTop() {
+    const top = this.canvas.getBoundingClientRect().top;
+    const bottoms = [this.statsBox, this.hud].filter((e) => e && !e.hidden && e.offsetParent !== null)
+      .map((e) => e.getBoundingClientRect().bottom - top);
+    const covered = bottoms.length ? Math.max(0, ...bottoms) + 6 : 0;
+    return covered * (window.devicePixelRatio || 1);
   }
 
   /** The person moved the camera: the view stops following resizes. */

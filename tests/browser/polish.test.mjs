@@ -40,6 +40,16 @@ function robotCover(s) {
     inside: pts.every(([x, y]) => x >= 0 && y >= 0 && x <= s.width && y <= s.height) };
 }
 
+/** The stats and HUD boxes in the view's pixels (from its top-left corner). */
+const overlayRects = (page) => page.evaluate(() => {
+  const root = document.getElementById('playground').shadowRoot;
+  const view = root.querySelector('#view').getBoundingClientRect();
+  return ['#stats', '#hud'].map((sel) => root.querySelector(sel)).filter((e) => e && e.offsetParent !== null).map((e) => {
+    const r = e.getBoundingClientRect();
+    return { x: r.x - view.x, y: r.y - view.y, width: r.width, height: r.height };
+  });
+});
+
 /** Whether two DOM rectangles overlap. */
 const overlap = (a, b) => a && b && a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
 
@@ -56,6 +66,10 @@ for (const backend of ['webgpu', 'webgl2']) {
           const c = robotCover(s);
           assert.ok(c.inside, `${name} ${width}: the robot is inside the view`);
           assert.ok(Math.max(c.w, c.h) >= 0.4, `${name} ${width}: robot covers ${c.w.toFixed(2)} × ${c.h.toFixed(2)} of the view`);
+          // No skeleton node is hidden under the stats or the HUD.
+          const covers = await overlayRects(page);
+          const hidden = s.screenNodes.filter(Boolean).filter(([x, y]) => covers.some((r) => x >= r.x && x <= r.x + r.width && y >= r.y && y <= r.y + r.height));
+          assert.deepEqual(hidden, [], `${name} ${width}: nodes under the text over the view`);
           await page.screenshot({ path: path.join(artifacts, `fit-${backend}-${name}-${width}x${height}.png`) });
         }
         // Zoom far out with the wheel (the full page zooms without a click), then double click.

@@ -49,6 +49,9 @@ test('the Viewer checks its arguments, reads them once and refuses use after fre
         resizeBool: said(() => v.resize(true, 100)),
         fitString: said(() => v.fit('0.8')),
         fitNone: said(() => v.fit()),
+        fitTopString: said(() => v.fit(0.8, '10')),
+        fitTopNegative: said(() => v.fit(0.8, -1)),
+        fitTop: said(() => v.fit(0.8, 40)),
         rayAtArray: said(() => v.rayAt([1], 2)),
         drawWorldPlain: said(() => v.drawWorld({})),
         drawWorldFreed: said(() => v.drawWorld(freedWorld)),
@@ -70,6 +73,9 @@ test('the Viewer checks its arguments, reads them once and refuses use after fre
     assert.equal(messages.resizeBool, 'Error: width: expected a number, got a boolean');
     assert.equal(messages.fitString, 'Error: fill: expected a number, got a string');
     assert.equal(messages.fitNone, 'accepted');
+    assert.equal(messages.fitTopString, 'Error: top: expected a number, got a string');
+    assert.equal(messages.fitTopNegative, 'Error: fit.top: must be ≥ 0');
+    assert.equal(messages.fitTop, 'accepted');
     assert.equal(messages.rayAtArray, 'Error: x: expected a number, got an array');
     assert.equal(messages.drawWorldPlain, 'Error: world: expected a World, got an object');
     assert.equal(messages.drawWorldFreed, 'Error: world: this World has been freed');
@@ -118,7 +124,7 @@ test(`a hostile caller of every Viewer method gets only Errors naming a field (s
       const valid = {
         setRobot: () => [pick([{ preset: 'planar3' }, 'lwr4'])], setJoints: () => [[0.1, 0.2, 0.3]], setView: () => [pick(['3d', 'top', 'auto'])],
         setSelected: () => [pick(['box', null])], projectPoint: () => [[0, 0, 0]], setDisplay: () => [{ volumes: true, nodes: false }],
-        orbit: () => [0.1, -0.1], pan: () => [3, 4], zoom: () => [1.1], fit: () => [0.75], resize: () => [200, 150], rayAt: () => [10, 20],
+        orbit: () => [0.1, -0.1], pan: () => [3, 4], zoom: () => [1.1], fit: () => [0.75, 30], resize: () => [200, 150], rayAt: () => [10, 20],
         drawWorld: () => [world], drawState: () => [world.state()], render: () => [], state: () => [], viewDirection: () => [],
       };
       const names = Object.keys(valid);

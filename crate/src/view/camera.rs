@@ -112,6 +112,30 @@ impl Camera {
     /// height. The direction (yaw, pitch, view) is kept; no points, or only
     /// non-finite ones, leave the camera as it is.
     pub fn fit(&mut self, points: &[Vec3], aspect: f32, fill: f32) {
+        self.fit_fills(points, aspect, fill, fill);
+    }
+
+    /// [`Camera::fit`] into the part of a `width` × `height` view below its
+    /// top `top` pixels (where a page lays text over the view): the box
+    /// fills `fill` of that part's width or height and is centred in it.
+    /// `top` is clamped to half the height.
+    pub fn fit_below(&mut self, points: &[Vec3], (width, height): (f32, f32), top: f32, fill: f32) {
+        let height = height.max(1.0);
+        let top = if top.is_finite() {
+            top.clamp(0.0, 0.5 * height)
+        } else {
+            0.0
+        };
+        let region = height - top;
+        let fill = fill.clamp(0.05, 1.0);
+        self.fit_fills(points, width / height, fill, fill * region / height);
+        // The region's centre lies top/2 pixels below the view's centre.
+        self.pan(0.0, 0.5 * top, height);
+    }
+
+    /// [`Camera::fit`] with the share of the view's width (`fill_x`) and
+    /// height (`fill_y`) the box may fill.
+    fn fit_fills(&mut self, points: &[Vec3], aspect: f32, fill_x: f32, fill_y: f32) {
         let back = self.backward();
         let right = self.up().cross(back).normalize_or(Vec3::X);
         let up = back.cross(right);
@@ -132,9 +156,9 @@ impl Camera {
         } else {
             1.0
         };
-        let fill = fill.clamp(0.05, 1.0);
-        // Half the visible height at the target that makes the box fill `fill`.
-        let half_height = half.y.max(half.x / aspect) / fill;
+        let (fill_x, fill_y) = (fill_x.clamp(0.05, 1.0), fill_y.clamp(0.05, 1.0));
+        // Half the visible height at the target that makes the box fill its share.
+        let half_height = (half.y / fill_y).max(half.x / (aspect * fill_x));
         self.target = mid.x * right + mid.y * up + mid.z * back;
         // In perspective the near half of the box is closer to the eye: step
         // back by its depth so that it is not drawn larger than planned.
@@ -295,6 +319,52 @@ mod tests {
             let b = camera.project(points[1], w, h).unwrap();
             let share = ((b[0] - a[0]).abs() / w).max((b[1] - a[1]).abs() / h);
             assert!(share > 0.45 && share < 0.61, "{view:?} {aspect}: {share}");
+        }
+    }
+
+    #[test]
+    fn fit_below_frames_the_points_under_the_top_band_and_centres_them() {
+        let points = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.8, 0.3, 0.5),
+            Vec3::new(-0.2, 0.6, 0.9),
+        ];
+        let (w, h, top) = (390.0, 600.0, 120.0);
+        for view in [View::Top, View::Orbit] {
+            let mut camera = Camera::framing(Vec3::ZERO, 5.0, view);
+            camera.fit_below(&points, (w, h), top, 0.8);
+            let shots: Vec<[f32; 2]> = points
+                .iter()
+                .map(|p| camera.project(*p, w, h).unwrap())
+                .collect();
+            let (lo, hi) = shots.iter().fold(
+                ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]),
+                |(lo, hi), p| {
+                    (
+                        [lo[0].min(p[0]), lo[1].min(p[1])],
+                        [hi[0].max(p[0]), hi[1].max(p[1])],
+                    )
+                },
+            );
+            assert!(
+                lo[1] > top && hi[1] < h && lo[0] > 0.0 && hi[0] < w,
+                "{view:?}: {lo:?} {hi:?}"
+            );
+            // Centred in the band below `top` (within a few pixels; the
+            // perspective box is only nearly symmetric on screen).
+            let middle = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+            assert!(
+                (middle[0] - 0.5 * w).abs() < 0.06 * w,
+                "{view:?}: {middle:?}"
+            );
+            assert!(
+                (middle[1] - 0.5 * (h + top)).abs() < 0.06 * h,
+                "{view:?}: {middle:?}"
+            );
+            // The limiting side is filled to about 0.8 of the band (less in
+            // perspective, where the fit steps back by the box's depth).
+            let share = ((hi[0] - lo[0]) / w).max((hi[1] - lo[1]) / (h - top));
+            assert!(share > 0.55 && share < 0.81, "{view:?}: {share}");
         }
     }
 

@@ -221,13 +221,26 @@ impl Stage {
     /// obstacles within the robot's reach so that they fill `fill` of a
     /// drawing buffer of `aspect` = width / height.
     pub fn fit(&mut self, fill: f32, aspect: f32) {
+        let points = self.fit_points();
+        self.camera.fit(&points, aspect, fill);
+        self.dirty = true;
+    }
+
+    /// [`Stage::fit`] into the part of a `width` × `height` drawing buffer
+    /// below its top `top` pixels (where the page shows text over the view).
+    pub fn fit_below(&mut self, fill: f32, size: (f32, f32), top: f32) {
+        let points = self.fit_points();
+        self.camera.fit_below(&points, size, top, fill);
+        self.dirty = true;
+    }
+
+    /// What a fit frames: the skeleton and the obstacles within reach.
+    fn fit_points(&self) -> Vec<Vec3> {
         let points = match &self.world {
             Some(world) => fit_points(world, &self.reach),
             None => self.drawn_nodes(),
         };
-        let points: Vec<Vec3> = points.iter().map(|p| DVec3::from(*p).as_vec3()).collect();
-        self.camera.fit(&points, aspect, fill);
-        self.dirty = true;
+        points.iter().map(|p| DVec3::from(*p).as_vec3()).collect()
     }
 
     /// The robot's reach (the ball framed by [`Stage::set_robot`]).

@@ -195,7 +195,7 @@ const VIEWER_ARGS: &[(&str, &[&str])] = &[
     ("orbit", &["dx:number", "dy:number"]),
     ("pan", &["dx:number", "dy:number"]),
     ("zoom", &["factor:number"]),
-    ("fit", &["fill:number?"]),
+    ("fit", &["fill:number?", "top:number?"]),
     ("resize", &["width:number", "height:number"]),
     ("rayAt", &["x:number", "y:number"]),
 ];

@@ -318,18 +318,28 @@ impl Viewer {
     /// Frames the scene: the camera keeps its direction and aims at the
     /// robot's skeleton and the obstacles it can reach (centres within its
     /// reach from the base) so that they fill about `fill` of the view's
-    /// width or height (default 0.6).
+    /// width or height (default 0.6). With `top` (drawing-buffer pixels,
+    /// default 0) they are framed in the part of the view below its top
+    /// `top` pixels, where a page lays text over it (at most half the view).
     ///
     /// # Errors
-    /// An `Error` unless `fill` is undefined or a number in (0, 1].
-    pub fn fit(&mut self, fill: Option<f64>) -> Result<(), JsError> {
+    /// An `Error` unless `fill` is undefined or a number in (0, 1], and
+    /// `top` undefined or a number ≥ 0.
+    pub fn fit(&mut self, fill: Option<f64>, top: Option<f64>) -> Result<(), JsError> {
         let fill = finite_arg("fit.fill", fill.unwrap_or(0.6))?;
         if !(fill > 0.0 && fill <= 1.0) {
             return Err(JsError::new("fit.fill: must be in (0, 1]"));
         }
+        let top = finite_arg("fit.top", top.unwrap_or(0.0))?;
+        if top < 0.0 {
+            return Err(JsError::new("fit.top: must be ≥ 0"));
+        }
         let (width, height) = self.renderer.size();
-        self.stage
-            .fit(fill as f32, width as f32 / height.max(1) as f32);
+        self.stage.fit_below(
+            fill as f32,
+            (width as f32, height.max(1) as f32),
+            top as f32,
+        );
         Ok(())
     }
 
