@@ -42,6 +42,7 @@ use crate::scenario::{ObstacleSpec, Scenario, ScenarioError, ShapeSpec, TaskSpec
 use crate::skeleton::Skeleton;
 
 mod edit;
+mod guard;
 mod monitor;
 mod obstacles;
 mod probe;
@@ -92,11 +93,17 @@ pub struct World {
     scene_dirty: bool,
     trackers: BTreeMap<Key, Tracker>,
     risky: BTreeSet<usize>,
-    anchors: Vec<DVec3>,
+    anchors: Vec<(DVec3, Option<glam::DQuat>)>,
     references: Vec<TaskReference>,
     guards: Vec<Guard>,
     guard_pairs: Vec<GuardPair>,
     request: Vec<f64>,
+    /// This step's first guard with no admissible escape, and by how much
+    /// the arm's approach exceeds its bound.
+    doomed: Option<(usize, f64)>,
+    /// Whether the `constraints` avoidance dropped its dampers this step.
+    relaxed: bool,
+    qp: crate::avoidance::qp::Workspace,
     braking: bool,
     stopped: bool,
     stop_reason: Option<StopReason>,
@@ -188,6 +195,9 @@ impl World {
             guards: Vec::new(),
             guard_pairs: Vec::new(),
             request: Vec::new(),
+            doomed: None,
+            relaxed: false,
+            qp: crate::avoidance::qp::Workspace::default(),
             braking: false,
             stopped: false,
             stop_reason: None,
