@@ -44,8 +44,12 @@ pub struct DhValues {
 )]
 pub enum TaskSpec {
     /// Keep the main chain's end effector where it starts (default): its
-    /// position, and its orientation too when the chain has six joints or
-    /// more (a spatial arm that can; a planar arm holds its position only).
+    /// position, and with the `constraints` avoidance its orientation too
+    /// when the chain has six joints or more (a spatial arm that can; a
+    /// planar arm holds its position only). The paper's controllers
+    /// (`repulsion`, torque, `clik2`) hold the position, as in the paper:
+    /// a pose task in the null space of the avoidance rows leaves a 7-joint
+    /// arm none to avoid with.
     #[default]
     Hold,
     /// Reach `position` (m), and `orientation` (`[x, y, z, w]`) if given.
@@ -275,10 +279,16 @@ impl Tasks {
     }
 
     /// Where each task anchors at the start: the end effector of its chain
-    /// (hold: its position, and its orientation on a chain of six joints or
-    /// more), or its point's position (point tasks without `position`).
+    /// (hold: its position, and with `orientation` its orientation too on a
+    /// chain of six joints or more), or its point's position (point tasks
+    /// without `position`).
     #[must_use]
-    pub fn anchors(&self, robot: &Robot, frames: &Frames) -> Vec<(DVec3, Option<DQuat>)> {
+    pub fn anchors(
+        &self,
+        robot: &Robot,
+        frames: &Frames,
+        orientation: bool,
+    ) -> Vec<(DVec3, Option<DQuat>)> {
         self.as_slice()
             .iter()
             .map(|t| match (t, t.point_at(0.0)) {
@@ -292,7 +302,7 @@ impl Tasks {
                 _ => {
                     let chain = t.chain(robot);
                     let ee = frames.end_effectors.get(chain);
-                    let spatial = chain_joints(robot, chain) >= 6;
+                    let spatial = chain_joints(robot, chain) >= 6 && orientation;
                     (
                         ee.map_or(DVec3::ZERO, |e| e.translation),
                         ee.filter(|_| spatial && matches!(t, TaskSpec::Hold))

@@ -173,7 +173,11 @@ impl World {
             })
             .collect::<Result<Vec<_>, _>>()
             .map_err(err)?;
-        let anchors = scenario.task.anchors(&robot, &frames);
+        let anchors = scenario.task.anchors(
+            &robot,
+            &frames,
+            Self::uses_constraints(&scenario.controller),
+        );
         let n = robot.dof();
         let mut w = Self {
             scenario,
