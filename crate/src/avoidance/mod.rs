@@ -36,6 +36,7 @@ use serde::{Deserialize, Serialize};
 use crate::control_point::DhPoint;
 use crate::control_point::PointMotion;
 use crate::error::{FieldError, non_negative, positive};
+use crate::kinematics::LinkRef;
 use crate::linalg::Damping;
 
 pub mod constraints;
@@ -77,17 +78,6 @@ pub enum Avoidance {
     /// ([`control::velocity_control`]). The torque and `clik2` modes are the
     /// paper's controllers and always use it.
     Repulsion,
-}
-
-/// A pair of links kept out of the self-collision query: each side a link
-/// index (1-based, 0 the base) or, for a robot with `linkNames`, a name.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(untagged)]
-pub enum LinkRef {
-    /// Row index (1-based; 0 is the base).
-    Index(usize),
-    /// A name from the robot's `linkNames` (URDF child links).
-    Name(String),
 }
 
 /// How control points are chosen.

@@ -268,6 +268,7 @@ pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), Fi
             ),
         ));
     }
+    robot.link_pairs("selfCollisionExclude", &c.self_collision_exclude)?;
     for (k, p) in c.pinned.iter().enumerate() {
         p.validate_reachable(robot)
             .map_err(|e| e.within(&format!("pinned[{k}]")))?;

@@ -279,16 +279,10 @@ impl Tasks {
     }
 
     /// Where each task anchors at the start: the end effector of its chain
-    /// (hold: its position, and with `orientation` its orientation too on a
-    /// chain of six joints or more), or its point's position (point tasks
-    /// without `position`).
+    /// (hold: its position, and its orientation on a chain of six joints or
+    /// more), or its point's position (point tasks without `position`).
     #[must_use]
-    pub fn anchors(
-        &self,
-        robot: &Robot,
-        frames: &Frames,
-        orientation: bool,
-    ) -> Vec<(DVec3, Option<DQuat>)> {
+    pub fn anchors(&self, robot: &Robot, frames: &Frames) -> Vec<(DVec3, Option<DQuat>)> {
         self.as_slice()
             .iter()
             .map(|t| match (t, t.point_at(0.0)) {
@@ -302,7 +296,7 @@ impl Tasks {
                 _ => {
                     let chain = t.chain(robot);
                     let ee = frames.end_effectors.get(chain);
-                    let spatial = chain_joints(robot, chain) >= 6 && orientation;
+                    let spatial = chain_joints(robot, chain) >= 6;
                     (
                         ee.map_or(DVec3::ZERO, |e| e.translation),
                         ee.filter(|_| spatial && matches!(t, TaskSpec::Hold))
@@ -314,12 +308,14 @@ impl Tasks {
     }
 
     /// The references of every task at time `t` (`anchors` from
-    /// [`Tasks::anchors`]).
+    /// [`Tasks::anchors`]); a hold keeps its orientation only with
+    /// `hold_orientation` (the `constraints` avoidance).
     pub fn references(
         &self,
         robot: &Robot,
         t: f64,
         anchors: &[(DVec3, Option<DQuat>)],
+        hold_orientation: bool,
         out: &mut Vec<TaskReference>,
     ) {
         out.clear();
@@ -334,7 +330,7 @@ impl Tasks {
                 point: task.point_at(t),
             };
             match task {
-                TaskSpec::Hold => r.orientation = rotation,
+                TaskSpec::Hold => r.orientation = rotation.filter(|_| hold_orientation),
                 TaskSpec::Point { .. } => {}
                 TaskSpec::Goal {
                     position,

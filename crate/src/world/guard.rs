@@ -6,7 +6,7 @@
 //! the influence distance with its protective bound, its damper (in the
 //! `constraints` avoidance) and, for an obstacle closing in faster than
 //! the arm could stop, the escape the joints can still make
-//! ([`crate::avoidance::protect::Guard::escape`]). After the controller, [`World::protect`] projects
+//! ([`Guard::escape`]). After the controller, [`World::protect`] projects
 //! the request onto the protective bounds (a no-op for the `constraints`
 //! avoidance, whose request already meets them) and stops the arm when no
 //! admissible motion keeps a pair safe.
@@ -16,7 +16,7 @@ use std::collections::BTreeSet;
 use super::{StopReason, World};
 use crate::avoidance::constraints::INFEASIBLE_TOLERANCE;
 use crate::avoidance::limits::{braking_time, velocity_box};
-use crate::avoidance::protect::{self, Damper, GuardPair};
+use crate::avoidance::protect::{self, Damper, Guard, GuardPair};
 use crate::avoidance::selection::fraction_on;
 use crate::avoidance::{Avoidance, ControllerConfig, Mode};
 use crate::dependability::EventKind;
@@ -72,6 +72,34 @@ impl World {
             });
         }
         self.guard_pairs = out;
+    }
+
+    /// The `startContact` event: the deepest of the pairs that overlap in
+    /// the first step, if any.
+    pub(super) fn report_start_contact(&mut self, pairs: &[PairDistance]) {
+        let overlapping = pairs.iter().filter(|p| p.distance <= 0.0);
+        let Some(deepest) = overlapping
+            .clone()
+            .min_by(|a, b| a.distance.total_cmp(&b.distance))
+        else {
+            return;
+        };
+        let link = self.skeleton.segments[deepest.segment].link;
+        let obstacle = match deepest.target {
+            Target::Obstacle { id, .. } => self.obstacles[self.owners[id as usize]].spec.id.clone(),
+            Target::Segment(other) => {
+                format!(
+                    "self:{}",
+                    self.robot.link_label(self.skeleton.segments[other].link)
+                )
+            }
+        };
+        self.push(EventKind::StartContact {
+            obstacle,
+            link: self.robot.link_label(link),
+            distance: deepest.distance,
+            pairs: overlapping.count(),
+        });
     }
 
     /// Guard pairs at the ends of `p`'s segment against scene part `part`
@@ -203,9 +231,18 @@ impl World {
         let mut out = Vec::with_capacity(self.request.len());
         let result = protect::project(&self.request, weights, &lo, &hi, &guards, &mut out);
         self.request = out;
+        // A guard the joints cannot meet right now is no reason to stop
+        // while the arm can still outrun its obstacle ([`Guard::escape`]):
+        // the request is the closest admissible retreat.
         let infeasible = result
             .worst
             .filter(|_| result.violation > INFEASIBLE_TOLERANCE)
+            .filter(|&k| {
+                let g = &guards[k];
+                g.obstacle_speed <= 0.0
+                    || g.escape(&self.robot, &self.motion.qdot, &lo, &hi, &p)
+                        .is_none()
+            })
             .map(|k| (k, result.violation));
         let doomed = infeasible.or(self.doomed);
         let mut now = BTreeSet::new();

@@ -58,6 +58,9 @@ impl World {
         }
         // 2. scene query
         let pairs = self.scene_query(&cfg)?;
+        if self.t == 0.0 {
+            self.report_start_contact(&pairs);
+        }
         // 3. select
         let margins: Vec<f64> = self.obstacles.iter().map(|o| o.margin).collect();
         let selected = selection::select(&pairs, &self.owners, &margins, &self.skeleton, &cfg);
@@ -76,8 +79,9 @@ impl World {
         // 7. protect
         let all_hold = self.protect(&cfg, dt);
         self.maybe_resume(all_hold);
-        // 8.–9. limit and integrate
+        // 8.–9. limit and integrate, then the command monitor
         self.limit_and_integrate(dt);
+        self.monitor_command();
         Ok(())
     }
 
@@ -313,9 +317,13 @@ impl World {
         dt: f64,
     ) -> Result<(), FieldError> {
         let mut refs = std::mem::take(&mut self.references);
-        self.scenario
-            .task
-            .references(&self.robot, self.t, &self.anchors, &mut refs);
+        self.scenario.task.references(
+            &self.robot,
+            self.t,
+            &self.anchors,
+            Self::uses_constraints(cfg),
+            &mut refs,
+        );
         self.references = refs;
         if Self::uses_constraints(cfg) {
             let (lo, hi) = velocity_box(&self.robot, &self.q);

@@ -264,7 +264,7 @@ impl World {
         if !self.stopped || self.t < self.stopped_until {
             return;
         }
-        if self.trackers.values().any(|tr| tr.chattering) {
+        if self.trackers.values().any(|tr| tr.chattering) || self.command_monitor.chattering() {
             return;
         }
         if self.stop_reason == Some(StopReason::Unavoidable)
