@@ -6,7 +6,7 @@
 //! the influence distance with its protective bound, its damper (in the
 //! `constraints` avoidance) and, for an obstacle closing in faster than
 //! the arm could stop, the escape the joints can still make
-//! ([`Guard::escape`]). After the controller, [`World::protect`] projects
+//! ([`crate::avoidance::protect::Guard::escape`]). After the controller, [`World::protect`] projects
 //! the request onto the protective bounds (a no-op for the `constraints`
 //! avoidance, whose request already meets them) and stops the arm when no
 //! admissible motion keeps a pair safe.
@@ -16,7 +16,7 @@ use std::collections::BTreeSet;
 use super::{StopReason, World};
 use crate::avoidance::constraints::INFEASIBLE_TOLERANCE;
 use crate::avoidance::limits::{braking_time, velocity_box};
-use crate::avoidance::protect::{self, Damper, Guard, GuardPair};
+use crate::avoidance::protect::{self, Damper, GuardPair};
 use crate::avoidance::selection::fraction_on;
 use crate::avoidance::{Avoidance, ControllerConfig, Mode};
 use crate::dependability::EventKind;
@@ -232,7 +232,7 @@ impl World {
         let result = protect::project(&self.request, weights, &lo, &hi, &guards, &mut out);
         self.request = out;
         // A guard the joints cannot meet right now is no reason to stop
-        // while the arm can still outrun its obstacle ([`Guard::escape`]):
+        // while the arm can still outrun its obstacle ([`crate::avoidance::protect::Guard::escape`]):
         // the request is the closest admissible retreat.
         let infeasible = result
             .worst
