@@ -32,8 +32,9 @@ impl World {
 
     /// The pairs the protective layer guards: every pair within the
     /// influence distance, obstacles as sensed (margin subtracted). A
-    /// segment–obstacle pair is guarded at its witness and at both ends of
-    /// the segment: where a segment runs nearly parallel to a face, its
+    /// segment–obstacle pair is guarded at its witness and, unless the
+    /// obstacle is a point or a sphere, at both ends of the segment: where
+    /// a segment runs nearly parallel to a face or an edge, its
     /// witness can jump from one end to the other between two steps, onto
     /// a point that moves differently; guarding the ends bounds that point
     /// before the jump (measured on the PR2 reach problems).
@@ -117,6 +118,11 @@ impl World {
         let Some(shape) = self.scene.obstacles().get(part).map(|x| &x.shape) else {
             return;
         };
+        // Against a point or a sphere the clearance along a segment has one
+        // minimum that moves continuously: its witness never jumps.
+        if matches!(shape, Primitive::Point(_) | Primitive::Sphere(_)) {
+            return;
+        }
         let seg = &self.skeleton.segments[p.segment];
         let (a, b) = self.skeleton.endpoints(seg);
         for (t, end) in [(0.0, a), (1.0, b)] {
