@@ -82,13 +82,12 @@ fn objective(jac: &Mat, rhs: &[f64], config: &ControllerConfig) -> (Mat, Vec<f64
     let n = jac.cols;
     let mut h = Mat::zeros(n, n);
     let mut f = vec![0.0; n];
-    for r in 0..jac.rows {
-        let row = &jac.data[r * n..(r + 1) * n];
+    for (row, target) in jac.data.chunks_exact(n).zip(rhs) {
         for i in 0..n {
             if row[i] == 0.0 {
                 continue;
             }
-            f[i] += row[i] * rhs[r];
+            f[i] += row[i] * target;
             for j in 0..n {
                 h.data[i * n + j] += row[i] * row[j];
             }
