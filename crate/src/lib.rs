@@ -59,6 +59,7 @@ pub mod control_point;
 pub mod dependability;
 pub mod distance;
 pub mod error;
+pub mod fitting;
 pub mod kinematics;
 pub mod linalg;
 pub mod math;

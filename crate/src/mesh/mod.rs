@@ -11,8 +11,8 @@
 //!
 //! The parsers: [`mesh-loader`](https://docs.rs/mesh-loader) (Apache-2.0,
 //! from the openrr project, the loader of `urdf-viz`) reads STL, OBJ and
-//! COLLADA, pure Rust without `unsafe`, builds for `wasm32-unknown-unknown`
-//! and adds ~150 KB to the wasm module; [`gltf`](https://docs.rs/gltf)
+//! COLLADA, pure Rust without `unsafe`, builds for `wasm32-unknown-unknown`;
+//! [`gltf`](https://docs.rs/gltf)
 //! (MIT OR Apache-2.0, the reference Rust glTF crate) reads glTF and GLB with
 //! its default features off (no image decoding, no file system).
 //!
