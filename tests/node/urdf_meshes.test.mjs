@@ -39,7 +39,7 @@ test('a missing mesh is named and the robot still loads; bad meshes input is ref
   assert.match(fit.problems.join('\n'), /wrist2\.stl/);
   assert.equal(fit.robot.joints.length, 6);
   assert.throws(() => sa.robotFromUrdf(xml, { meshes: { 'a.stl': 'text' } }),
-    { message: /^options\.meshes\["a\.stl"\]: expected a Uint8Array or an ArrayBuffer/ });
+    { message: /^options\.meshes: "a\.stl" is not a Uint8Array or an ArrayBuffer/ });
   assert.throws(() => sa.fitUrdf(xml, { meshes: 3 }), { message: /^options\.meshes: expected an object/ });
   assert.throws(() => sa.fitUrdf(xml, { tipp: 'x', meshes: {} }), { message: /^options\.tipp: unknown field/ });
 });

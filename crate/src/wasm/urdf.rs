@@ -25,6 +25,28 @@ fn xml_of(xml: JsValue) -> Result<String, JsError> {
 /// The options without `meshes`, and the mesh files (`None` when absent).
 type Split = (UrdfOptions, Option<BTreeMap<String, Vec<u8>>>);
 
+fn unreadable(field: &str) -> JsError {
+    js_error(&FieldError::new(
+        field,
+        "could not be read (a throwing getter or a revoked proxy)",
+    ))
+}
+
+/// `(key, value)` of every own string-keyed property of `object`.
+fn entries(field: &str, object: &JsValue) -> Result<Vec<(String, JsValue)>, JsError> {
+    let keys = Reflect::own_keys(object).map_err(|_| unreadable(field))?;
+    let mut out = Vec::new();
+    for key in keys.iter() {
+        let Some(name) = key.as_string() else {
+            continue;
+        };
+        let value =
+            Reflect::get(object, &key).map_err(|_| unreadable(&format!("{field}.{name}")))?;
+        out.push((name, value));
+    }
+    Ok(out)
+}
+
 fn split_options(options: JsValue) -> Result<Split, JsError> {
     if options.is_undefined() || options.is_null() {
         return Ok((UrdfOptions::default(), None));
@@ -32,43 +54,43 @@ fn split_options(options: JsValue) -> Result<Split, JsError> {
     if !options.is_object() {
         return Err(js_error(&FieldError::new("options", "expected an object")));
     }
-    let key = JsValue::from_str("meshes");
-    let meshes = Reflect::get(&options, &key).unwrap_or(JsValue::UNDEFINED);
-    let rest = Object::assign(&Object::new(), options.unchecked_ref());
-    let _ = Reflect::delete_property(&rest, &key);
+    let rest = Object::new();
+    let mut meshes = JsValue::UNDEFINED;
+    for (name, value) in entries("options", &options)? {
+        if name == "meshes" {
+            meshes = value;
+        } else {
+            Reflect::set(&rest, &JsValue::from_str(&name), &value)
+                .map_err(|_| unreadable("options"))?;
+        }
+    }
     let parsed: UrdfOptions = object_from_js("options", rest.into())?;
     if meshes.is_undefined() || meshes.is_null() {
         return Ok((parsed, None));
     }
-    let Some(obj) = meshes.dyn_ref::<Object>() else {
+    if !meshes.is_object() || js_sys::Array::is_array(&meshes) {
         return Err(js_error(&FieldError::new(
             "options.meshes",
             "expected an object mapping paths to Uint8Array or ArrayBuffer",
         )));
-    };
+    }
     let mut files = BTreeMap::new();
-    for entry in Object::entries(obj).iter() {
-        let name = Reflect::get(&entry, &JsValue::from(0))
-            .ok()
-            .and_then(|k| k.as_string())
-            .unwrap_or_default();
-        let value = Reflect::get(&entry, &JsValue::from(1)).unwrap_or(JsValue::UNDEFINED);
-        let field = format!("options.meshes[\"{name}\"]");
+    for (name, value) in entries("options.meshes", &meshes)? {
         let bytes = if let Some(a) = value.dyn_ref::<Uint8Array>() {
             a.clone()
         } else if value.is_instance_of::<js_sys::ArrayBuffer>() {
             Uint8Array::new(&value)
         } else {
             return Err(js_error(&FieldError::new(
-                field,
-                "expected a Uint8Array or an ArrayBuffer",
+                "options.meshes",
+                format!("\"{name}\" is not a Uint8Array or an ArrayBuffer"),
             )));
         };
         if bytes.length() as usize > MAX_MESH_BYTES {
             return Err(js_error(&FieldError::new(
-                field,
+                "options.meshes",
                 format!(
-                    "{} bytes is more than the {MAX_MESH_BYTES} a mesh may have",
+                    "\"{name}\" has {} bytes, more than the {MAX_MESH_BYTES} a mesh may have",
                     bytes.length()
                 ),
             )));
@@ -113,7 +135,12 @@ pub fn robot_from_urdf(xml: JsValue, options: JsValue) -> Result<JsValue, JsErro
 /// found or read (the robot loads with the others).
 #[wasm_bindgen(js_name = fitUrdf)]
 pub fn fit_urdf_js(xml: JsValue, options: JsValue) -> Result<JsValue, JsError> {
+    to_js(&fit_from_js(xml, options)?)
+}
+
+/// `fitUrdf`'s work, for the viewer's `setUrdf` too.
+pub(super) fn fit_from_js(xml: JsValue, options: JsValue) -> Result<UrdfFit, JsError> {
     let xml = xml_of(xml)?;
     let (options, files) = split_options(options)?;
-    to_js(&fit(&xml, &options, &files.unwrap_or_default())?)
+    fit(&xml, &options, &files.unwrap_or_default())
 }
