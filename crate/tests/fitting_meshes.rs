@@ -170,6 +170,17 @@ fn iiwa14_fitted_volumes_contain_every_collision_vertex() {
 }
 
 #[test]
+fn a_default_tip_at_the_last_joint_moves_on_to_a_frame_fixed_to_it() {
+    // ur5_robot.urdf's longest chain ends at wrist_3_link, whose origin is
+    // on the last joint: no segment would move with its mesh; the fit takes
+    // a frame fixed to it as the tip instead.
+    let f = fit_urdf(UR5, &UrdfOptions::default(), &ur5_files()).unwrap();
+    assert!(f.problems.is_empty(), "{:?}", f.problems);
+    assert_eq!(f.after.as_ref().unwrap().robot.vertex_coverage, 1.0);
+    assert_contained(&f, &[0.0; 6]);
+}
+
+#[test]
 fn a_missing_mesh_is_named_and_the_robot_still_loads() {
     let mut files = ur5_files();
     files.remove("ur5/collision/forearm.stl");

@@ -5,10 +5,10 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use super::{Body, Coverage, CoverageOptions, coverage, fit_volumes};
+use super::{Body, Coverage, CoverageOptions, coverage, fit_volumes, rigid_segments};
 use crate::error::FieldError;
-use crate::kinematics::RobotSpec;
-use crate::kinematics::urdf::{UrdfOptions, robot_with_links};
+use crate::kinematics::urdf::{ChainLink, UrdfOptions, robot_with_links};
+use crate::kinematics::{Robot, RobotSpec};
 use crate::mesh::{TriMesh, load_mesh};
 
 /// The result of [`fit_urdf`].
@@ -97,6 +97,41 @@ pub fn resolve_mesh<'a>(
     })
 }
 
+/// The collision bodies of the links (base excluded) and one message per
+/// mesh that could not be read.
+fn read_bodies(links: &[ChainLink], files: &BTreeMap<String, Vec<u8>>) -> (Vec<Body>, Vec<String>) {
+    let mut problems = Vec::new();
+    let mut bodies = Vec::new();
+    for link in links.iter().filter(|l| l.row > 0) {
+        let mut mesh = TriMesh::default();
+        for (k, m) in link.collision.iter().enumerate() {
+            match read(&m.filename, files) {
+                Ok(t) => mesh.append(&t.transformed(&(link.pose * m.origin), m.scale)),
+                Err(e) => problems.push(format!("link \"{}\": collision[{k}]: {e}", link.name)),
+            }
+        }
+        if !mesh.vertices.is_empty() {
+            bodies.push(Body {
+                name: link.name.clone(),
+                link: link.row,
+                mesh,
+            });
+        }
+    }
+    (bodies, problems)
+}
+
+/// Names of the bodies no skeleton segment moves with.
+fn unplaced(spec: &RobotSpec, bodies: &[Body]) -> Result<Vec<String>, FieldError> {
+    let robot = Robot::from_spec(spec)?;
+    let rigid = rigid_segments(&robot, &vec![0.0; robot.dof()])?;
+    Ok(bodies
+        .iter()
+        .filter(|b| rigid.get(b.link).is_none_or(Vec::is_empty))
+        .map(|b| b.name.clone())
+        .collect())
+}
+
 fn read(name: &str, files: &BTreeMap<String, Vec<u8>>) -> Result<TriMesh, String> {
     let key = resolve_mesh(name, files)?;
     let bytes = files.get(key).map_or(&[][..], Vec::as_slice);
@@ -115,6 +150,12 @@ fn read(name: &str, files: &BTreeMap<String, Vec<u8>>) -> Result<TriMesh, String
 /// maps paths (as dropped: `robot/meshes/link1.stl`) to bytes. Links fixed
 /// to the base are not fitted (no segment moves with them).
 ///
+/// Without `options.tip`, when the default tip leaves the last link with no
+/// segment of its own (its origin on the last joint), a frame fixed to that
+/// link (a flange, `ee_link`, `tool0`) is taken as the tip; a link no
+/// segment moves with is named in the problems (its vertices count as
+/// outside).
+///
 /// # Errors
 /// A [`FieldError`] when the URDF cannot be imported; a mesh that cannot be
 /// found or read is a message in [`UrdfFit::problems`] instead.
@@ -123,24 +164,38 @@ pub fn fit_urdf(
     options: &UrdfOptions,
     files: &BTreeMap<String, Vec<u8>>,
 ) -> Result<UrdfFit, FieldError> {
-    let (spec, links) = robot_with_links(xml, options)?;
-    let mut problems = Vec::new();
-    let mut bodies = Vec::new();
-    for link in links.iter().filter(|l| l.row > 0) {
-        let mut mesh = TriMesh::default();
-        for (k, m) in link.collision.iter().enumerate() {
-            match read(&m.filename, files) {
-                Ok(t) => mesh.append(&t.transformed(&(link.pose * m.origin), m.scale)),
-                Err(e) => problems.push(format!("link \"{}\": collision[{k}]: {e}", link.name)),
+    let (mut spec, links) = robot_with_links(xml, options)?;
+    let (mut bodies, mut problems) = read_bodies(&links, files);
+    let mut loose = unplaced(&spec, &bodies)?;
+    // A default tip at the last joint's origin leaves the last link without
+    // a segment of its own: try the frames fixed to it (a flange, a tool).
+    if !loose.is_empty() && options.tip.is_none() {
+        let last = links.iter().map(|l| l.row).max().unwrap_or(0);
+        let candidates: Vec<String> = links
+            .iter()
+            .filter(|l| l.row == last && !loose.contains(&l.name))
+            .map(|l| l.name.clone())
+            .collect();
+        for tip in candidates {
+            let o = UrdfOptions {
+                tip: Some(tip),
+                base: options.base.clone(),
+            };
+            let Ok((s2, l2)) = robot_with_links(xml, &o) else {
+                continue;
+            };
+            let (b2, p2) = read_bodies(&l2, files);
+            let still = unplaced(&s2, &b2)?;
+            if still.is_empty() && s2.joints.len() == spec.joints.len() {
+                (spec, bodies, problems, loose) = (s2, b2, p2, still);
+                break;
             }
         }
-        if !mesh.vertices.is_empty() {
-            bodies.push(Body {
-                name: link.name.clone(),
-                link: link.row,
-                mesh,
-            });
-        }
+    }
+    for name in &loose {
+        problems.push(format!(
+            "link \"{name}\": no skeleton segment moves with it (its row has no length); choose a tip past it (a flange or tool frame)"
+        ));
     }
     let q = vec![0.0; spec.joints.len()];
     if bodies.is_empty() {
