@@ -3,11 +3,12 @@
 
 use std::collections::BTreeMap;
 
-use js_sys::{Object, Reflect, Uint8Array};
+use js_sys::{Reflect, Uint8Array};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
-use super::convert::{js_error, object_from_js, to_js};
+use super::boundary::read_urdf_options;
+use super::convert::{from_json_at, js_error, to_js};
 use crate::error::FieldError;
 use crate::fitting::{UrdfFit, fit_urdf};
 use crate::kinematics::urdf::{self, UrdfOptions};
@@ -25,77 +26,27 @@ fn xml_of(xml: JsValue) -> Result<String, JsError> {
 /// The options without `meshes`, and the mesh files (`None` when absent).
 type Split = (UrdfOptions, Option<BTreeMap<String, Vec<u8>>>);
 
-fn unreadable(field: &str) -> JsError {
-    js_error(&FieldError::new(
-        field,
-        "could not be read (a throwing getter or a revoked proxy)",
-    ))
-}
-
-/// `(key, value)` of every own string-keyed property of `object`.
-fn entries(field: &str, object: &JsValue) -> Result<Vec<(String, JsValue)>, JsError> {
-    let keys = Reflect::own_keys(object).map_err(|_| unreadable(field))?;
-    let mut out = Vec::new();
-    for key in keys.iter() {
-        let Some(name) = key.as_string() else {
-            continue;
-        };
-        let value =
-            Reflect::get(object, &key).map_err(|_| unreadable(&format!("{field}.{name}")))?;
-        out.push((name, value));
-    }
-    Ok(out)
-}
-
 fn split_options(options: JsValue) -> Result<Split, JsError> {
-    if options.is_undefined() || options.is_null() {
-        return Ok((UrdfOptions::default(), None));
-    }
-    if !options.is_object() {
-        return Err(js_error(&FieldError::new("options", "expected an object")));
-    }
-    let rest = Object::new();
-    let mut meshes = JsValue::UNDEFINED;
-    for (name, value) in entries("options", &options)? {
-        if name == "meshes" {
-            meshes = value;
-        } else {
-            Reflect::set(&rest, &JsValue::from_str(&name), &value)
-                .map_err(|_| unreadable("options"))?;
-        }
-    }
-    let parsed: UrdfOptions = object_from_js("options", rest.into())?;
+    let (json, meshes) = read_urdf_options(&options, MAX_MESH_BYTES)?;
+    let parsed: UrdfOptions = if json.is_null() {
+        UrdfOptions::default()
+    } else {
+        from_json_at("options", "options", json)?
+    };
     if meshes.is_undefined() || meshes.is_null() {
         return Ok((parsed, None));
     }
-    if !meshes.is_object() || js_sys::Array::is_array(&meshes) {
-        return Err(js_error(&FieldError::new(
-            "options.meshes",
-            "expected an object mapping paths to Uint8Array or ArrayBuffer",
-        )));
-    }
+    // A plain object of fresh Uint8Arrays made by boundary.js: reading it
+    // cannot throw.
     let mut files = BTreeMap::new();
-    for (name, value) in entries("options.meshes", &meshes)? {
-        let bytes = if let Some(a) = value.dyn_ref::<Uint8Array>() {
-            a.clone()
-        } else if value.is_instance_of::<js_sys::ArrayBuffer>() {
-            Uint8Array::new(&value)
-        } else {
-            return Err(js_error(&FieldError::new(
-                "options.meshes",
-                format!("\"{name}\" is not a Uint8Array or an ArrayBuffer"),
-            )));
+    let keys = Reflect::own_keys(&meshes).unwrap_or_default();
+    for key in keys.iter() {
+        let (Some(name), Ok(value)) = (key.as_string(), Reflect::get(&meshes, &key)) else {
+            continue;
         };
-        if bytes.length() as usize > MAX_MESH_BYTES {
-            return Err(js_error(&FieldError::new(
-                "options.meshes",
-                format!(
-                    "\"{name}\" has {} bytes, more than the {MAX_MESH_BYTES} a mesh may have",
-                    bytes.length()
-                ),
-            )));
+        if let Some(bytes) = value.dyn_ref::<Uint8Array>() {
+            files.insert(name, bytes.to_vec());
         }
-        files.insert(name, bytes.to_vec());
     }
     Ok((parsed, Some(files)))
 }
