@@ -190,7 +190,8 @@ impl Stage {
     }
 
     /// Link meshes drawn with the current robot (each in the frame of its
-    /// row; see [`link_meshes`]) until the next [`Stage::set_robot`].
+    /// row; see [`link_meshes`](super::link_meshes)) until the next
+    /// [`Stage::set_robot`].
     pub fn set_meshes(&mut self, meshes: Vec<LinkMesh>) {
         self.meshes = meshes;
         self.dirty = true;
