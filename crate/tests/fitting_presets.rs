@@ -126,6 +126,19 @@ fn report(name: &str, spec: &RobotSpec, bodies: &[Body]) -> f64 {
     now.robot.vertex_coverage
 }
 
+/// The preset's own radii (fitted, rounded up) hold every vertex.
+fn assert_preset_holds(spec: &RobotSpec, bodies: &[Body]) {
+    let q = vec![0.0; spec.joints.len()];
+    let c = coverage(spec, &q, bodies, &CoverageOptions::default()).unwrap();
+    for b in &c.bodies {
+        assert_eq!(
+            b.vertex_coverage, 1.0,
+            "{}: worst {} m outside",
+            b.name, b.worst_outside
+        );
+    }
+}
+
 #[test]
 fn panda_preset_covers_its_collision_meshes() {
     let files = files! {
@@ -146,7 +159,8 @@ fn panda_preset_covers_its_collision_meshes() {
         &spec,
     );
     let c = report("panda", &spec, &bodies);
-    assert!(c > 0.0);
+    assert_eq!(c, 1.0);
+    assert_preset_holds(&spec, &bodies);
 }
 
 #[test]
@@ -167,5 +181,6 @@ fn ur5_preset_covers_its_collision_meshes() {
         &spec,
     );
     let c = report("ur5", &spec, &bodies);
-    assert!(c > 0.0);
+    assert_eq!(c, 1.0);
+    assert_preset_holds(&spec, &bodies);
 }

@@ -209,11 +209,22 @@ fn sudden_obstacles_and_obstacles_at_a_node() {
                 &robot,
                 &simulate(&s).unwrap(),
             );
-            // Far away, then 12 cm from the node at t = 0.2 s, then closing in.
+            // Far away, then 4.5 cm outside the volume at the node (12 cm
+            // from the node with the 0.075 m radius this was written for;
+            // the fitted radii are larger) at t = 0.2 s, then closing in.
+            let r_node = sk
+                .segments
+                .iter()
+                .filter_map(|s| {
+                    (s.from == node)
+                        .then_some(s.radius[0])
+                        .or((s.to == node).then_some(s.radius[1]))
+                })
+                .fold(0.0, f64::max);
             let jump = ObstacleSpec {
                 id: "ball".to_owned(),
                 shape: ShapeSpec::Primitive(PrimitiveSpec::Sphere(SphereSpec {
-                    center: (p + side * 0.16).to_array(),
+                    center: (p + side * (r_node + 0.045 + 0.04)).to_array(),
                     radius: 0.04,
                 })),
                 motion: Some(Motion::Waypoints {
