@@ -92,6 +92,47 @@ export interface UrdfOptions {
   base?: string;
   /** An SRDF document: its `disable_collisions` pairs become `selfCollisionExclude`. */
   srdf?: string;
+  /**
+   * Mesh files by path (`robot/meshes/link1.stl`): STL, OBJ, COLLADA, glTF,
+   * GLB. Given, the radii are fitted to the links' collision meshes.
+   */
+  meshes?: Record<string, Uint8Array | ArrayBuffer>;
+}
+
+/** How well volumes cover one link's collision mesh (or the robot's). */
+export interface BodyCoverage {
+  name: string;
+  /** Row whose frame carries the link (0 for the robot as a whole). */
+  link: number;
+  vertices: number;
+  /** Share of vertices inside (0..1). */
+  vertexCoverage: number;
+  /** Share of the area at most `surfaceTolerance` outside (0..1). */
+  surfaceCoverage: number;
+  /** Largest distance of a vertex outside (m; ≤ 0 when none). */
+  worstOutside: number;
+  meshVolume: number;
+  volumesVolume: number;
+  /** volumesVolume / meshVolume. */
+  excess: number;
+}
+
+export interface Coverage {
+  bodies: BodyCoverage[];
+  robot: BodyCoverage;
+  /** m. */
+  surfaceTolerance: number;
+}
+
+/** `fitUrdf`'s result. */
+export interface UrdfFit {
+  robot: RobotSpec & { jointNames: string[] };
+  /** Coverage by the radii imported without meshes; null without a readable mesh. */
+  before: Coverage | null;
+  /** Coverage by the fitted radii. */
+  after: Coverage | null;
+  /** One message per mesh not found or not readable, naming it. */
+  problems: string[];
 }
 
 export interface ForwardKinematics {
@@ -486,6 +527,7 @@ export interface SkeletonPickResult extends DhPoint {
 export function robotPreset(name: PresetName): RobotSpec;
 export function presetNames(): string[];
 export function robotFromUrdf(xml: string, options?: UrdfOptions): RobotSpec & { jointNames: string[] };
+export function fitUrdf(xml: string, options: UrdfOptions): UrdfFit;
 export function forwardKinematics(robot: RobotInput, q: JointVector): ForwardKinematics;
 export function skeleton(robot: RobotInput, q: JointVector): SkeletonResult;
 export function controlPoint(robot: RobotInput, q: JointVector, point: DhPoint, rates?: ControlPointRates): ControlPointResult;

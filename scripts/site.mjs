@@ -11,8 +11,12 @@ import { repo } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
 
-/** The size budget of the gzipped wasm, bytes (1.5 MB). */
-const LIMIT = 1_500_000;
+/**
+ * The size budget of the gzipped wasm, bytes (1.65 MB): 1.5 MB until the
+ * mesh readers came in (mesh-loader for STL, OBJ, COLLADA and gltf for
+ * glTF/GLB, about 120 and 95 kB gzipped on their own), 1.61 MB with them.
+ */
+const LIMIT = 1_650_000;
 const web = path.join(repo, 'web');
 const pkg = path.join(repo, 'crate', 'pkg');
 const dist = path.join(repo, 'dist');

@@ -74,6 +74,15 @@ export function buildPanel(pg) {
   pg.panel = p;
   p.example = h('select', { id: 'example', 'aria-label': 'example scenario' });
   p.file = h('input', { type: 'file', accept: '.json,application/json', hidden: true, id: 'file', onchange: () => pg.loadFile(p.file.files[0]) });
+  const picked = (input) => () => {
+    const items = [...input.files].map((file) => ({ path: file.webkitRelativePath || file.name, file }));
+    input.value = '';
+    pg.loadUrdfItems(items);
+  };
+  p.urdfFolder = h('input', { type: 'file', hidden: true, id: 'urdf-folder', webkitdirectory: true, multiple: true });
+  p.urdfFolder.onchange = picked(p.urdfFolder);
+  p.urdfFiles = h('input', { type: 'file', hidden: true, id: 'urdf-files', multiple: true, accept: '.urdf,.zip,.stl,.obj,.dae,.gltf,.glb,.bin' });
+  p.urdfFiles.onchange = picked(p.urdfFiles);
   p.status = h('div', { class: 'hint', id: 'status', 'aria-live': 'polite' });
   p.playButton = h('button', { type: 'button', id: 'run', onclick: () => pg.toggleRun() }, 'Pause');
   pg.playButton = p.playButton;
@@ -145,6 +154,9 @@ export function buildPanel(pg) {
     buildDependability(pg),
     h('h3', {}, 'Robot'),
     field('preset', p.preset), field('convention', p.convention),
+    h('div', { class: 'row', title: 'a URDF with its meshes (STL, OBJ, COLLADA, glTF): a folder, a zip or the files; or drop them on the view' },
+      'URDF', button('open-urdf-folder', 'Folder…', () => p.urdfFolder.click()), button('open-urdf-files', 'Files or zip…', () => p.urdfFiles.click()),
+      p.urdfFolder, p.urdfFiles),
     h('table', { class: 'dh', id: 'dh-table' }, h('caption', {}, 'DH table (m, rad)'),
       h('thead', {}, h('tr', {}, ['#', ...DH_COLUMNS.map((c) => c.head), 'type'].map((c) => h('th', {}, c)))), p.dh),
     h('table', { class: 'dh', id: 'limits-table' }, h('caption', {}, 'joint limits (rad or m, per s, s², s³; N·m or N; empty: default)'),
@@ -155,7 +167,7 @@ export function buildPanel(pg) {
     p.joints,
     h('h3', {}, 'View'),
     field('camera', p.viewSelect),
-    check('show-volumes', 'volumes', true), check('show-nodes', 'nodes', true), check('show-axes', 'frame axes', false));
+    check('show-meshes', 'meshes', true), check('show-volumes', 'volumes', true), check('show-nodes', 'nodes', true), check('show-axes', 'frame axes', false));
 }
 
 function cellInput(row, c, value, label) {

@@ -11,6 +11,7 @@ import { TraceRecorder } from './export.js';
 import { wireInput } from './input.js';
 import { readoutMethods } from './readouts.js';
 import { sceneMethods } from './scene-edits.js';
+import { urdfMethods } from './urdf-files.js';
 import { pinMethods, withoutPins } from './pinning.js';
 import { PRESETS, applyDh, buildPanel, fillPresets, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
 import { TimePlot } from './plots.js';
@@ -117,6 +118,9 @@ export class Playground {
       h('table', {}, HELP.map(([k, what]) => h('tr', {}, h('td', {}, h('kbd', {}, k)), h('td', {}, what)))),
       h('p', { class: 'hint' }, 'Press ? or Escape to close.'));
     const stage = h('div', { class: 'stage' }, this.canvas, this.statsBox, this.hud, this.notices, this.hintBox, this.errorBox, this.helpBox);
+    // A folder, a zip or files holding a URDF and its meshes, dropped on the view.
+    stage.addEventListener('dragover', (e) => e.preventDefault());
+    stage.addEventListener('drop', (e) => this.dropUrdf(e));
     if (this.controls === 'full') {
       stage.append(h('button', { type: 'button', class: 'panel-toggle', id: 'panel-toggle', 'aria-controls': 'panel', 'aria-expanded': 'false',
         onclick: (e) => e.currentTarget.setAttribute('aria-expanded', String(this.container.classList.toggle('panel-open'))) }, '☰ Controls'));
@@ -546,7 +550,7 @@ export class Playground {
 
   applyDisplay() {
     const get = (id) => this.root.getElementById?.(id)?.checked ?? this.root.querySelector(`#${id}`)?.checked;
-    this.guard(() => this.viewer.setDisplay({ volumes: get('show-volumes'), nodes: get('show-nodes'), axes: get('show-axes'), grid: true }));
+    this.guard(() => this.viewer.setDisplay({ meshes: get('show-meshes') ?? true, volumes: get('show-volumes'), nodes: get('show-nodes'), axes: get('show-axes'), grid: true }));
   }
 
   refreshPanel() {
@@ -576,4 +580,4 @@ export class Playground {
   }
 }
 
-Object.assign(Playground.prototype, sceneMethods, readoutMethods, pinMethods);
+Object.assign(Playground.prototype, sceneMethods, readoutMethods, pinMethods, urdfMethods);

@@ -37,6 +37,10 @@ const LOWER: &[(&str, &str)] = &[
         "kinematics/urdf/dh.rs",
         include_str!("../src/kinematics/urdf/dh.rs"),
     ),
+    (
+        "kinematics/urdf/links.rs",
+        include_str!("../src/kinematics/urdf/links.rs"),
+    ),
 ];
 
 /// Modules built on top of the lower layers.
@@ -49,6 +53,7 @@ const HIGHER: &[&str] = &[
     "scenario",
     "world",
     "distance",
+    "fitting",
 ];
 
 /// Re-exports kept only so that old paths still compile; the code of the

@@ -83,6 +83,7 @@ const FUNCTIONS = {
   translateShape: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, [0.1, -0.2, 0.3])],
   simulate: (r) => [arg(r, r.pick(SCENARIOS))],
   robotFromUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, { tip: 'b' })],
+  fitUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? arg(r, { tip: 'b', meshes: {} }) : { meshes: { 'm.stl': new Uint8Array(r.int(200)).map(() => r.int(256)) } }],
   benchControlStep: (r) => [arg(r, r.int(3)), r.chance(0.5) ? undefined : arg(r, r.int(3))],
   benchKinematicsStep: (r) => [arg(r, 'planar3'), arg(r, r.int(3))],
   monteCarlo: (r) => [arg(r, r.pick(SCENARIOS)), arg(r, { runs: 1 + r.int(2), seed: r.int(5), rows: r.chance(0.5) })],

@@ -36,6 +36,10 @@ pub struct DrawState {
     /// Where the sliding points of point tasks are now (m).
     #[serde(default)]
     pub sliding_points: Vec<[f64; 3]>,
+    /// The joint vector (places the link meshes; empty: they stay where
+    /// they were).
+    #[serde(default)]
+    pub q: Vec<f64>,
 }
 
 /// Skeleton nodes and segments (m, world frame).
@@ -203,6 +207,7 @@ impl From<WorldState> for DrawState {
             control_points,
             uncertainty,
             sliding_points: state.sliding_points,
+            q: state.q,
         }
     }
 }

@@ -21,6 +21,7 @@
 mod camera;
 mod draw;
 mod framing;
+mod meshes;
 mod scene;
 mod shapes;
 mod stage;
@@ -31,6 +32,7 @@ pub use draw::{
     UncertaintyView, build_scene, style,
 };
 pub use framing::{Reach, fit_points, is_planar};
+pub use meshes::{LinkMesh, MAX_DRAWN_TRIANGLES, MESH_COLOR, draw_meshes, link_meshes};
 pub use scene::{Capsule, Grid, Line, Scene, Sphere, Triangle};
 pub use shapes::{Palette, THIN, UNCERTAINTY};
 pub use stage::{Display, Stage, parse_view};

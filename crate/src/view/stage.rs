@@ -11,6 +11,7 @@ use serde::Deserialize;
 use super::camera::{Camera, View};
 use super::draw::{DrawOptions, DrawState, SegmentView, SkeletonView, build_scene};
 use super::framing::{Reach, fit_points, is_planar};
+use super::meshes::{LinkMesh, draw_meshes};
 use super::scene::{Grid, Scene};
 use crate::error::FieldError;
 use crate::kinematics::Robot;
@@ -26,6 +27,8 @@ pub struct Display {
     pub nodes: bool,
     /// The DH frames' axes.
     pub axes: bool,
+    /// The link meshes, when the robot has them ([`Stage::set_meshes`]).
+    pub meshes: bool,
     /// The ground grid.
     pub grid: bool,
     /// Arrow length per unit of repulsion (s: metres of arrow per m/s).
@@ -38,6 +41,7 @@ impl Default for Display {
             volumes: true,
             nodes: true,
             axes: false,
+            meshes: true,
             grid: true,
             arrow_scale: 0.4,
         }
@@ -80,6 +84,8 @@ pub struct Stage {
     /// Id of the highlighted obstacle.
     selected: Option<String>,
     reach: Reach,
+    /// The robot's link meshes, in the frames of their rows.
+    meshes: Vec<LinkMesh>,
     dirty: bool,
 }
 
@@ -104,6 +110,7 @@ impl Stage {
                 center: DVec3::ZERO,
                 radius: 1.0,
             },
+            meshes: Vec::new(),
             dirty: true,
         }
     }
@@ -129,6 +136,7 @@ impl Stage {
         self.camera = Camera::framing(self.reach.center.as_vec3(), self.reach.radius as f32, view);
         self.frames = f.transforms;
         self.robot = Some(robot);
+        self.meshes.clear();
         self.q = q;
         self.world = None;
         self.dirty = true;
@@ -171,7 +179,21 @@ impl Stage {
     /// Draws `state` (a world's) instead of the robot's own skeleton until
     /// the next [`Stage::set_robot`].
     pub fn draw(&mut self, state: DrawState) {
+        if let Some(robot) = &self.robot
+            && state.q.len() == robot.dof()
+            && let Ok(f) = robot.forward(&state.q)
+        {
+            self.frames = f.transforms;
+        }
         self.world = Some(state);
+        self.dirty = true;
+    }
+
+    /// Link meshes drawn with the current robot (each in the frame of its
+    /// row; see [`link_meshes`](super::link_meshes)) until the next
+    /// [`Stage::set_robot`].
+    pub fn set_meshes(&mut self, meshes: Vec<LinkMesh>) {
+        self.meshes = meshes;
         self.dirty = true;
     }
 
@@ -311,6 +333,9 @@ impl Stage {
             }
         };
         let around = self.reach.center.to_array();
+        if self.display.meshes {
+            draw_meshes(scene, &self.meshes, &self.frames);
+        }
         build_scene(scene, state, &options, self.selected.as_deref(), around);
         if self.display.axes {
             for f in &self.frames {

@@ -199,3 +199,56 @@ export function guardClass(instance, name, argNames) {
   }
   Object.defineProperty(proto, '__guarded', { value: true });
 }
+
+/**
+ * Reads the options of `robotFromUrdf` / `fitUrdf` / `Viewer.setUrdf` once:
+ * `{ json, meshes }`, the options without `meshes` as JSON text, and the
+ * mesh files as a fresh plain object of fresh `Uint8Array` copies (so Rust
+ * never touches the caller's objects). Throws an Error naming the field.
+ */
+export function readUrdfOptions(options, maxBytes) {
+  if (options === undefined || options === null) return { json: 'null', meshes: undefined };
+  if (typeof options !== 'object') fail('options', `expected an object, got ${kindOf(options)}`);
+  let keys;
+  try {
+    keys = Object.keys(options);
+  } catch (e) {
+    fail('options', `could not be read (${message(e)})`);
+  }
+  const rest = {};
+  let meshes;
+  for (const k of keys) {
+    let v;
+    try {
+      v = options[k];
+    } catch (e) {
+      fail(at('options', k), `could not be read (${message(e)})`);
+    }
+    if (k === 'meshes') meshes = v;
+    else rest[k] = v;
+  }
+  const json = readJson(rest, 'options');
+  if (meshes === undefined || meshes === null) return { json, meshes: undefined };
+  if (typeof meshes !== 'object' || Array.isArray(meshes)) fail('options.meshes', 'expected an object mapping paths to Uint8Array or ArrayBuffer');
+  let names;
+  try {
+    names = Object.keys(meshes);
+  } catch (e) {
+    fail('options.meshes', `could not be read (${message(e)})`);
+  }
+  const out = {};
+  for (const name of names) {
+    let bytes = null;
+    try {
+      const v = meshes[name];
+      if (v instanceof Uint8Array) bytes = v;
+      else if (v instanceof ArrayBuffer) bytes = new Uint8Array(v);
+    } catch (e) {
+      fail('options.meshes', `"${name}" could not be read (${message(e)})`);
+    }
+    if (!bytes) fail('options.meshes', `"${name}" is not a Uint8Array or an ArrayBuffer`);
+    if (bytes.length > maxBytes) fail('options.meshes', `"${name}" has ${bytes.length} bytes, more than the ${maxBytes} a mesh may have`);
+    out[name] = bytes.slice();
+  }
+  return { json, meshes: out };
+}

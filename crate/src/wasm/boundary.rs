@@ -17,6 +17,9 @@ extern "C" {
     #[wasm_bindgen(catch, js_name = readJson)]
     fn read_json_js(value: &JsValue, field: &str) -> Result<String, JsValue>;
 
+    #[wasm_bindgen(catch, js_name = readUrdfOptions)]
+    fn read_urdf_options_js(options: &JsValue, max_bytes: f64) -> Result<JsValue, JsValue>;
+
     #[wasm_bindgen(js_name = guardClass)]
     fn guard_class_js(instance: &JsValue, name: &str, arg_names: &JsValue);
 }
@@ -34,6 +37,32 @@ pub fn read_json(field: &str, value: &JsValue) -> Result<serde_json::Value, JsEr
     })?;
     serde_json::from_str(&text)
         .map_err(|e| js_error(&FieldError::new(field, format!("could not be read ({e})"))))
+}
+
+/// The options of the URDF functions read once by `boundary.js`: the
+/// options without `meshes` as JSON, and the mesh files as a fresh plain
+/// object of fresh `Uint8Array`s (`undefined` when absent).
+pub fn read_urdf_options(
+    options: &JsValue,
+    max_bytes: usize,
+) -> Result<(serde_json::Value, JsValue), JsError> {
+    let read = read_urdf_options_js(options, max_bytes as f64).map_err(|e| {
+        let msg = e.dyn_ref::<js_sys::Error>().map_or_else(
+            || "options: could not be read".to_owned(),
+            |e| String::from(e.message()),
+        );
+        JsError::new(&msg)
+    })?;
+    let get =
+        |k: &str| js_sys::Reflect::get(&read, &JsValue::from_str(k)).unwrap_or(JsValue::UNDEFINED);
+    let text = get("json").as_string().unwrap_or_else(|| "null".to_owned());
+    let json = serde_json::from_str(&text).map_err(|e| {
+        js_error(&FieldError::new(
+            "options",
+            format!("could not be read ({e})"),
+        ))
+    })?;
+    Ok((json, get("meshes")))
 }
 
 /// Guards the methods of the class of `instance` (see `guardClass` in
@@ -198,6 +227,8 @@ const VIEWER_ARGS: &[(&str, &[&str])] = &[
     ("fit", &["fill:number?", "top:number?"]),
     ("resize", &["width:number", "height:number"]),
     ("rayAt", &["x:number", "y:number"]),
+    // Read by `readUrdfOptions` (mesh bytes are not JSON).
+    ("setUrdf", &["xml", "options:urdf"]),
 ];
 
 /// `viewer` handed to JavaScript with its class guarded like `World`'s:

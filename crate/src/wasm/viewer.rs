@@ -182,6 +182,29 @@ impl Viewer {
         self.stage.draw(DrawState::from(state));
     }
 
+    /// Sets the robot from a URDF and its mesh files, and draws its
+    /// collision meshes (lit, under the translucent volumes; `setDisplay({
+    /// meshes, volumes })` switches either off). `options` are `fitUrdf`'s
+    /// (`{ tip?, base?, meshes }`), and so is the result (`{ robot, before,
+    /// after, problems }`): give `result.robot` to `new World(…)` and draw
+    /// the world as usual; the meshes follow its joints.
+    ///
+    /// # Errors
+    /// `fitUrdf`'s; the viewer is unchanged after one.
+    #[wasm_bindgen(js_name = setUrdf)]
+    pub fn set_urdf(&mut self, xml: JsValue, options: JsValue) -> Result<JsValue, JsError> {
+        let fit = super::urdf::fit_from_js(xml, options)?;
+        let robot = crate::kinematics::Robot::from_spec(&fit.robot).map_err(|e| js_error(&e))?;
+        let zero = robot
+            .forward(&vec![0.0; robot.dof()])
+            .map_err(|e| js_error(&e))?;
+        let meshes = crate::view::link_meshes(&fit.bodies, &zero.transforms);
+        let report = to_js(&fit)?;
+        self.stage.set_robot(robot).map_err(|e| js_error(&e))?;
+        self.stage.set_meshes(meshes);
+        Ok(report)
+    }
+
     /// Highlights the obstacle with this id (`null` or `undefined`: none).
     ///
     /// # Errors

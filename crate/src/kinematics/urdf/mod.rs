@@ -27,7 +27,10 @@
 //!   links a row moves until the next joint (cylinder and capsule: their
 //!   radius; sphere: its radius; box: half the diagonal of its two smaller
 //!   sides); rows with only meshes (or nothing) keep the default radius
-//!   ([`super::DEFAULT_RADIUS`], 0.05 m).
+//!   ([`super::DEFAULT_RADIUS`], 0.05 m). With the mesh files at hand,
+//!   [`crate::fitting::fit_urdf`] replaces these radii by ones fitted to the
+//!   collision meshes (JS: `robotFromUrdf(xml, { meshes })`, `fitUrdf`);
+//!   [`robot_with_links`] lists the links with their meshes and poses.
 //!
 //! Not imported: mimic joints, `floating`, `planar` and `spherical` joints in
 //! the chain (an error names the joint: choose a tip before it), closed loops
@@ -35,6 +38,9 @@
 //! (other arms, fingers, sensors) and the geometry of links outside it.
 
 pub mod dh;
+mod links;
+
+use links::chain_links;
 
 use std::collections::{HashMap, HashSet};
 
@@ -95,6 +101,47 @@ pub struct UrdfOptions {
 ///
 /// See also [`dh::dh_chain`], [`Robot::from_spec`].
 pub fn robot_from_urdf(xml: &str, options: &UrdfOptions) -> Result<RobotSpec, FieldError> {
+    robot_with_links(xml, options).map(|(spec, _)| spec)
+}
+
+/// A link of the imported chain and its geometry at `q = 0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChainLink {
+    /// The URDF link's name.
+    pub name: String,
+    /// 1-based DH row whose frame carries it (0: the base link and the links
+    /// fixed to it).
+    pub row: usize,
+    /// Pose of the link frame in the spec's world frame at `q = 0`.
+    pub pose: DAffine3,
+    /// Its `<collision>` meshes.
+    pub collision: Vec<MeshRef>,
+    /// Its `<visual>` meshes.
+    pub visual: Vec<MeshRef>,
+}
+
+/// A `<mesh>` named by a link's `<visual>` or `<collision>`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshRef {
+    /// The `filename` as written (`package://…`, relative or absolute).
+    pub filename: String,
+    /// `<mesh scale>` (1 per axis when absent).
+    pub scale: DVec3,
+    /// The element's `<origin>` in the link frame.
+    pub origin: DAffine3,
+}
+
+/// [`robot_from_urdf`], and the links of the chain with their meshes and
+/// poses at `q = 0` in the spec's world frame (the base link first, then
+/// each link after a joint of the chain, fixed ones included).
+///
+/// # Errors
+/// As [`robot_from_urdf`]; also a mesh `<origin>` or `scale` that is not
+/// finite (`link "l": collision[0] …`).
+pub fn robot_with_links(
+    xml: &str,
+    options: &UrdfOptions,
+) -> Result<(RobotSpec, Vec<ChainLink>), FieldError> {
     let urdf = urdf_rs::read_from_string(xml)
         .map_err(|e| FieldError::new("xml", format!("not a readable URDF: {e}")))?;
     let tree = Tree::new(&urdf)?;
@@ -116,7 +163,8 @@ pub fn robot_from_urdf(xml: &str, options: &UrdfOptions) -> Result<RobotSpec, Fi
             ),
         ));
     }
-    chain.into_spec(&urdf.name, options.srdf.as_deref())
+    let links = chain_links(&urdf, &base, &path, &chain)?;
+    Ok((chain.into_spec(&urdf.name, options.srdf.as_deref())?, links))
 }
 
 /// The `disable_collisions` pairs of an SRDF document between links of the
@@ -345,6 +393,8 @@ struct Chain {
     /// Every link of the path and the row that moves it (0: the base).
     rows: Vec<(String, usize)>,
     tip: DAffine3,
+    /// Per joint of the path: the child link's row and pose at q = 0.
+    poses: Vec<(usize, DAffine3)>,
 }
 
 fn finite_vec(joint: &str, what: &str, v: [f64; 3]) -> Result<DVec3, FieldError> {
@@ -388,6 +438,7 @@ impl Chain {
             links: Vec::new(),
             rows: Vec::new(),
             tip: DAffine3::IDENTITY,
+            poses: Vec::new(),
         };
         if let Some(&k) = path.first() {
             chain.rows.push((urdf.joints[k].parent.link.clone(), 0));
@@ -434,6 +485,7 @@ impl Chain {
                 chain.links.push(j.child.link.clone());
             }
             chain.rows.push((j.child.link.clone(), chain.joints.len()));
+            chain.poses.push((chain.joints.len(), chain.tip));
             if let (Some(row), Some(link)) =
                 (chain.joints.last_mut(), links.get(j.child.link.as_str()))
             {

@@ -1,0 +1,222 @@
+//! A URDF with its mesh files: the robot spec with fitted volumes, and how
+//! well the volumes cover the collision meshes before and after.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use super::{Body, Coverage, CoverageOptions, coverage, fit_volumes, rigid_segments};
+use crate::error::FieldError;
+use crate::kinematics::urdf::{ChainLink, UrdfOptions, robot_with_links};
+use crate::kinematics::{Robot, RobotSpec};
+use crate::mesh::{TriMesh, load_mesh};
+
+/// The result of [`fit_urdf`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct UrdfFit {
+    /// The spec with fitted radii and extensions (as imported when no
+    /// collision mesh could be read).
+    pub robot: RobotSpec,
+    /// Coverage of the collision meshes by the imported radii (primitive
+    /// collision shapes or the 0.05 m default), `None` without meshes.
+    pub before: Option<Coverage>,
+    /// Coverage by the fitted radii.
+    pub after: Option<Coverage>,
+    /// One message per mesh that could not be found or read, naming it; the
+    /// robot is fitted to the others.
+    pub problems: Vec<String>,
+    /// The collision bodies read (world frame at `q = 0`).
+    #[serde(skip)]
+    pub bodies: Vec<Body>,
+}
+
+/// Path components of `name`, after `package://` or `file://`, with `.`
+/// dropped and `..` applied. A relative name may start with one `..` (a
+/// URDF in `urdf/` naming `../meshes/a.stl`, the ROS layout); `Err` when
+/// `..` climbs further out.
+pub fn path_components(name: &str) -> Result<Vec<String>, String> {
+    let rest = name
+        .strip_prefix("package://")
+        .or_else(|| name.strip_prefix("file://"))
+        .unwrap_or(name);
+    let mut out: Vec<String> = Vec::new();
+    let mut climbs = 0;
+    for c in rest.split(['/', '\\']) {
+        match c {
+            "" | "." => {}
+            ".." => {
+                if out.pop().is_none() {
+                    if rest.starts_with('/') || climbs == 1 {
+                        return Err(format!("\"{name}\" leads outside the folder"));
+                    }
+                    climbs += 1;
+                }
+            }
+            c => out.push(c.to_owned()),
+        }
+    }
+    if out.is_empty() {
+        return Err(format!("\"{name}\" names no file"));
+    }
+    Ok(out)
+}
+
+/// The key of `files` that `name` (a URDF mesh `filename`) refers to: the
+/// one sharing the longest tail of path components with it (at least the
+/// file name), so that `package://pkg/meshes/a.stl`, `../meshes/a.stl` and
+/// `meshes/a.stl` all find `robot/meshes/a.stl`.
+///
+/// # Errors
+/// A message naming the file: not found, or a path leading outside.
+pub fn resolve_mesh<'a>(
+    name: &str,
+    files: &'a BTreeMap<String, Vec<u8>>,
+) -> Result<&'a str, String> {
+    let want = path_components(name)?;
+    let mut best: Option<(usize, &str)> = None;
+    for key in files.keys() {
+        let Ok(have) = path_components(key) else {
+            continue;
+        };
+        let common = want
+            .iter()
+            .rev()
+            .zip(have.iter().rev())
+            .take_while(|(a, b)| a == b)
+            .count();
+        if common > 0 && best.is_none_or(|(c, _)| common > c) {
+            best = Some((common, key.as_str()));
+        }
+    }
+    best.map(|(_, k)| k).ok_or_else(|| {
+        format!(
+            "\"{name}\" was not found among the {} files given",
+            files.len()
+        )
+    })
+}
+
+/// The collision bodies of the links (base excluded) and one message per
+/// mesh that could not be read.
+fn read_bodies(links: &[ChainLink], files: &BTreeMap<String, Vec<u8>>) -> (Vec<Body>, Vec<String>) {
+    let mut problems = Vec::new();
+    let mut bodies = Vec::new();
+    for link in links.iter().filter(|l| l.row > 0) {
+        let mut mesh = TriMesh::default();
+        for (k, m) in link.collision.iter().enumerate() {
+            match read(&m.filename, files) {
+                Ok(t) => mesh.append(&t.transformed(&(link.pose * m.origin), m.scale)),
+                Err(e) => problems.push(format!("link \"{}\": collision[{k}]: {e}", link.name)),
+            }
+        }
+        if !mesh.vertices.is_empty() {
+            bodies.push(Body {
+                name: link.name.clone(),
+                link: link.row,
+                mesh,
+            });
+        }
+    }
+    (bodies, problems)
+}
+
+/// Names of the bodies no skeleton segment moves with.
+fn unplaced(spec: &RobotSpec, bodies: &[Body]) -> Result<Vec<String>, FieldError> {
+    let robot = Robot::from_spec(spec)?;
+    let rigid = rigid_segments(&robot, &vec![0.0; robot.dof()])?;
+    Ok(bodies
+        .iter()
+        .filter(|b| rigid.get(b.link).is_none_or(Vec::is_empty))
+        .map(|b| b.name.clone())
+        .collect())
+}
+
+fn read(name: &str, files: &BTreeMap<String, Vec<u8>>) -> Result<TriMesh, String> {
+    let key = resolve_mesh(name, files)?;
+    let bytes = files.get(key).map_or(&[][..], Vec::as_slice);
+    load_mesh(key, bytes, &mut |p| {
+        let p = path_components(p).ok()?.join("/");
+        files
+            .iter()
+            .find(|(k, _)| path_components(k).is_ok_and(|c| c.join("/") == p))
+            .map(|(_, v)| v.clone())
+    })
+    .map_err(|e| e.to_string())
+}
+
+/// Imports a URDF ([`robot_with_links`]) and fits the volumes of its rows to
+/// the collision meshes of the links they move ([`fit_volumes`]); `files`
+/// maps paths (as dropped: `robot/meshes/link1.stl`) to bytes. Links fixed
+/// to the base are not fitted (no segment moves with them).
+///
+/// Without `options.tip`, when the default tip leaves the last link with no
+/// segment of its own (its origin on the last joint), a frame fixed to that
+/// link (a flange, `ee_link`, `tool0`) is taken as the tip; a link no
+/// segment moves with is named in the problems (its vertices count as
+/// outside).
+///
+/// # Errors
+/// A [`FieldError`] when the URDF cannot be imported; a mesh that cannot be
+/// found or read is a message in [`UrdfFit::problems`] instead.
+pub fn fit_urdf(
+    xml: &str,
+    options: &UrdfOptions,
+    files: &BTreeMap<String, Vec<u8>>,
+) -> Result<UrdfFit, FieldError> {
+    let (mut spec, links) = robot_with_links(xml, options)?;
+    let (mut bodies, mut problems) = read_bodies(&links, files);
+    let mut loose = unplaced(&spec, &bodies)?;
+    // A default tip at the last joint's origin leaves the last link without
+    // a segment of its own: try the frames fixed to it (a flange, a tool).
+    if !loose.is_empty() && options.tip.is_none() {
+        let last = links.iter().map(|l| l.row).max().unwrap_or(0);
+        let candidates: Vec<String> = links
+            .iter()
+            .filter(|l| l.row == last && !loose.contains(&l.name))
+            .map(|l| l.name.clone())
+            .collect();
+        for tip in candidates {
+            let o = UrdfOptions {
+                tip: Some(tip),
+                base: options.base.clone(),
+                srdf: options.srdf.clone(),
+            };
+            let Ok((s2, l2)) = robot_with_links(xml, &o) else {
+                continue;
+            };
+            let (b2, p2) = read_bodies(&l2, files);
+            let still = unplaced(&s2, &b2)?;
+            if still.is_empty() && s2.joints.len() == spec.joints.len() {
+                (spec, bodies, problems, loose) = (s2, b2, p2, still);
+                break;
+            }
+        }
+    }
+    for name in &loose {
+        problems.push(format!(
+            "link \"{name}\": no skeleton segment moves with it (its row has no length); choose a tip past it (a flange or tool frame)"
+        ));
+    }
+    let q = vec![0.0; spec.joints.len()];
+    if bodies.is_empty() {
+        return Ok(UrdfFit {
+            robot: spec,
+            before: None,
+            after: None,
+            problems,
+            bodies,
+        });
+    }
+    let o = CoverageOptions::default();
+    let before = coverage(&spec, &q, &bodies, &o)?;
+    let robot = fit_volumes(&spec, &q, &bodies)?;
+    let after = coverage(&robot, &q, &bodies, &o)?;
+    Ok(UrdfFit {
+        robot,
+        before: Some(before),
+        after: Some(after),
+        problems,
+        bodies,
+    })
+}
