@@ -104,6 +104,10 @@ const METHODS = [
   ['pick', (r) => [arg(r, [0, 0, 2]), arg(r, [0, 0, -1])]],
   ['pickSkeleton', (r) => [arg(r, [0.3, 0, 2]), arg(r, [0, 0, -1])]],
   ['reset', () => []],
+  ['q', () => []],
+  ['qdot', () => []],
+  ['controller', () => []],
+  ['clearance', (r) => [arg(r, r.pick(['o0', 'ball', 'person']))]],
 ];
 
 /** Where a non-finite number hides in `v`, or null. */

@@ -35,6 +35,9 @@ pub struct Sample {
     pub t: f64,
     /// Joint values.
     pub q: Vec<f64>,
+    /// Joint velocities at `t` (rad/s or m/s).
+    #[serde(default)]
+    pub qdot: Vec<f64>,
     /// Smallest clearance between the arm and any obstacle (or between
     /// non-adjacent links) within reach (m; `null` when none is).
     pub min_clearance: Option<f64>,
@@ -49,7 +52,8 @@ pub struct Sample {
 /// What [`crate::world::simulate`] returns.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Trace {
-    /// Samples, every `sampleEvery` steps, from `t = 0`.
+    /// Samples, every `sampleEvery` steps from `t = 0`, and the last at
+    /// `t = duration`.
     pub samples: Vec<Sample>,
     /// Events in time order.
     pub events: Vec<Event>,

@@ -138,6 +138,7 @@ const WORLD_ARGS: &[(&str, &[&str])] = &[
     ("removeObstacle", &["id"]),
     ("setObstacleShape", &["id", "shape"]),
     ("clearanceTo", &["shape"]),
+    ("clearance", &["id"]),
     ("riskAt", &["shape", "sensing"]),
     ("moveObstacle", &["id", "position"]),
     ("setController", &["controller"]),
@@ -242,6 +243,38 @@ impl WorldHandle {
     pub fn state(&self, since: JsValue) -> Result<JsValue, JsError> {
         let since = count_arg("since", &since, Some(0), u32::MAX)?;
         to_js(&self.inner.state_since(since as usize))
+    }
+
+    /// The joint values now (rad or m), in the order of the robot's joints:
+    /// a cheap read for a page that plots them every frame.
+    #[must_use]
+    pub fn q(&self) -> Vec<f64> {
+        self.inner.q().to_vec()
+    }
+
+    /// The joint velocities now (rad/s or m/s), in the order of `q`.
+    #[must_use]
+    pub fn qdot(&self) -> Vec<f64> {
+        self.inner.qdot().to_vec()
+    }
+
+    /// Clearance (m) between the arm and obstacle `id` now (true pose;
+    /// negative: overlap; `Infinity` for a robot without segments).
+    ///
+    /// # Errors
+    /// `id: no obstacle "…"` for an unknown id, or `id` not a string.
+    pub fn clearance(&self, id: JsValue) -> Result<f64, JsError> {
+        let id = string_arg("id", &id)?;
+        self.inner.clearance_of(&id).map_err(|e| scenario_error(&e))
+    }
+
+    /// The controller configuration in effect, every field filled in (the
+    /// library's defaults for those the scenario omits).
+    ///
+    /// # Errors
+    /// Only if it cannot be converted (a bug).
+    pub fn controller(&self) -> Result<JsValue, JsError> {
+        to_js(&self.inner.scenario().controller)
     }
 
     /// Adds an obstacle `{ id, shape, motion? }`.

@@ -41,10 +41,12 @@ use crate::kinematics::{Frames, Robot};
 use crate::scenario::{ObstacleSpec, Scenario, ScenarioError, ShapeSpec, TaskSpec, Trace};
 use crate::skeleton::Skeleton;
 
+mod clock;
 mod edit;
 mod monitor;
 mod obstacles;
 mod probe;
+mod readout;
 mod state;
 mod step;
 mod track;
@@ -120,6 +122,8 @@ pub struct World {
     step_qdot: Vec<f64>,
     step_dt: f64,
     step_q: Vec<f64>,
+    /// Counts equal steps so that `t` is `k·dt` without rounding drift.
+    clock: clock::Clock,
 }
 
 fn err(e: FieldError) -> ScenarioError {
@@ -206,6 +210,7 @@ impl World {
             step_qdot: Vec::new(),
             step_dt: 0.0,
             step_q: Vec::new(),
+            clock: clock::Clock::default(),
         };
         w.rebuild_scene(0.0, false);
         Ok(w)
@@ -331,8 +336,9 @@ fn link_adjacency(robot: &Robot) -> Vec<Vec<bool>> {
         .collect()
 }
 
-/// Runs `scenario` from `t = 0` to its duration and returns the trace
-/// (a sample every `sampleEvery` steps, then every event).
+/// Runs `scenario` from `t = 0` to its duration and returns the trace: a
+/// sample every `sampleEvery` steps from `t = 0` (`t = k·dt` exactly) and
+/// one at `t = duration`, then every event.
 ///
 /// # Errors
 /// Whatever [`Scenario::validate`] reports.
@@ -356,6 +362,13 @@ pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
             samples.push(world.sample());
         }
     }
+    // The sample at `t = duration`: one more control step evaluates the
+    // state there (clearances, control points); only its sample is kept,
+    // not its motion or its events.
+    let events = world.events.len();
+    world.step(scenario.dt);
+    samples.push(world.sample());
+    world.events.truncate(events);
     Ok(Trace {
         samples,
         events: world.events,
