@@ -70,7 +70,10 @@ for (const backend of ['webgpu', 'webgl2']) {
       const errors = collectErrors(page);
       await page.goto(`${baseUrl}?scenario=lwr4-elbow&backend=${backend}`);
       await page.evaluate(() => window.playground.ready);
-      await page.waitForTimeout(2500);
+      // Wait for the state (50 plotted samples and 2 s simulated), not for wall time:
+      // on a busy machine fewer frames are drawn in a given stretch of time.
+      await page.waitForFunction(() => window.playground.series().clearance.min.v.length > 50
+        && window.playground.state().world.t >= 2, null, { timeout: 120_000 });
       await page.locator('#run').click(); // pause, so that the pixels hold still
       await frames(page, 3);
       const plots = await page.evaluate(() => {
