@@ -165,3 +165,32 @@ function differing(a, b) {
   }
   return n;
 }
+
+test('a scenario without a controller is shown with the library\'s defaults (influence 0.3 m, perObstacle)', async () => {
+  const browser = await launch({ webgpu: false });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await page.goto(`${baseUrl}?scenario=planar-transition&paused`);
+    await page.evaluate(() => window.playground.ready);
+    const shown = await page.evaluate(() => {
+      const app = window.playground.app;
+      const failure = app.loadScenario({
+        robot: { preset: 'planar3' }, q0: [0.3, -0.5, 0.4],
+        obstacles: [{ id: 'ball', shape: { type: 'sphere', center: [0.5, 0.4, 0], radius: 0.05 } }], dt: 0.001, duration: 5,
+      });
+      const root = document.getElementById('playground').shadowRoot;
+      return {
+        failure,
+        influence: app.plots.clearance.refs.find((r) => r.label === 'influence distance')?.v,
+        selection: root.getElementById('selection').value,
+        field: root.getElementById('influence').value,
+      };
+    });
+    assert.deepEqual(shown, { failure: shown.failure, influence: 0.3, selection: 'perObstacle', field: '0.3' });
+    assert.ok(!shown.failure, shown.failure);
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
