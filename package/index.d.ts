@@ -13,6 +13,10 @@ export type Quat = [number, number, number, number];
 export type Matrix4 = number[][];
 /** Joint values: a plain array or a `Float64Array`. */
 export type JointVector = number[] | Float64Array;
+/** Joint values by name, `{ panda_joint1: 0.1, … }`, for a robot with `jointNames` (every joint named once). */
+export type NamedJoints = { [jointName: string]: number };
+/** Where `q` / `q0` are taken: an array, a `Float64Array`, or by joint name. */
+export type JointInput = JointVector | NamedJoints;
 
 // ---- robots ----
 
@@ -87,6 +91,33 @@ export interface UrdfOptions {
   tip?: string | undefined;
   /** Link the chain starts at (the world frame); default: the root link. */
   base?: string | undefined;
+  /** Radius (m) per link name instead of its collision geometry; a row takes the largest over the links it moves. */
+  radii?: { [linkName: string]: number } | undefined;
+}
+
+/** What `importUrdf` did for one joint (one DH row). */
+export interface UrdfJointReport {
+  name: string;
+  /** The links it moves up to the next joint. */
+  links: string[];
+  /** The radius of its volume (m). */
+  radius: number;
+  radiusFrom: 'collision' | 'override' | 'default';
+  /** Limits the URDF did not give, filled with the documented defaults. */
+  defaulted: ('maxVelocity' | 'maxAcceleration' | 'maxJerk' | 'maxTorque')[];
+  /** Whether it has position limits (continuous joints have none). */
+  positionLimits: boolean;
+}
+
+/** What `importUrdf` did besides the spec. */
+export interface UrdfReport {
+  joints: UrdfJointReport[];
+  /** Links of the chain with only meshes or no collision shape. */
+  linksWithoutPrimitive: string[];
+  /** Joints of the document outside the chain (not imported). */
+  outsideChain: string[];
+  /** Non-adjacent links overlapping at q = 0 (a simulation starting there stops at once). */
+  startContacts: { links: [string, string]; joints: [string, string]; distance: number }[];
 }
 
 export interface ForwardKinematics {
@@ -271,7 +302,7 @@ export interface Dependability {
 export interface Scenario {
   /** A spec or `{ preset }` (a bare preset name is for the functions taking `RobotInput`, not for scenarios). */
   robot: RobotSpec | { preset: PresetName };
-  q0?: JointVector | undefined;
+  q0?: JointInput | undefined;
   obstacles: Obstacle[];
   /** One task, or a list with at most one per chain. */
   task?: Task | Task[] | undefined;
@@ -499,10 +530,12 @@ export interface SkeletonPickResult extends DhPoint {
 export function robotPreset(name: PresetName): RobotSpec;
 export function presetNames(): string[];
 export function robotFromUrdf(xml: string, options?: UrdfOptions): RobotSpec & { jointNames: string[] };
-export function forwardKinematics(robot: RobotInput, q: JointVector): ForwardKinematics;
-export function skeleton(robot: RobotInput, q: JointVector): SkeletonResult;
-export function controlPoint(robot: RobotInput, q: JointVector, point: DhPoint, rates?: ControlPointRates): ControlPointResult;
-export function skeletonPoint(robot: RobotInput, q: JointVector, at: { segment: number; t: number }): DhPoint & { position: Vec3 };
+/** `robotFromUrdf`'s spec and a report of what was read, defaulted and left out. */
+export function importUrdf(xml: string, options?: UrdfOptions): { robot: RobotSpec & { jointNames: string[] }; report: UrdfReport };
+export function forwardKinematics(robot: RobotInput, q: JointInput): ForwardKinematics;
+export function skeleton(robot: RobotInput, q: JointInput): SkeletonResult;
+export function controlPoint(robot: RobotInput, q: JointInput, point: DhPoint, rates?: ControlPointRates): ControlPointResult;
+export function skeletonPoint(robot: RobotInput, q: JointInput, at: { segment: number; t: number }): DhPoint & { position: Vec3 };
 export function distance(a: Primitive, b: Primitive): DistanceResult;
 /** A figure's reference point: the point motions move and `moveObstacle` places. */
 export function referencePoint(shape: Shape): Vec3;

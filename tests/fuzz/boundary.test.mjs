@@ -83,6 +83,7 @@ const FUNCTIONS = {
   translateShape: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, [0.1, -0.2, 0.3])],
   simulate: (r) => [arg(r, r.pick(SCENARIOS))],
   robotFromUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, { tip: 'b' })],
+  importUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, r.chance(0.5) ? { tip: 'b' } : { radii: { b: 0.03 } })],
   benchControlStep: (r) => [arg(r, r.int(3)), r.chance(0.5) ? undefined : arg(r, r.int(3))],
   benchKinematicsStep: (r) => [arg(r, 'planar3'), arg(r, r.int(3))],
   monteCarlo: (r) => [arg(r, r.pick(SCENARIOS)), arg(r, { runs: 1 + r.int(2), seed: r.int(5), rows: r.chance(0.5) })],

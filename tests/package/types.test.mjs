@@ -67,6 +67,7 @@ lines.push(\`type Unlisted = Exclude<T.PresetName, \${names.map((x) => JSON.stri
 lines.push('export const everyPresetListed: [Unlisted] extends [never] ? true : false = true;');
 for (const name of names) add('T.RobotSpec', sa.robotPreset(name));
 add('T.RobotSpec & { jointNames: string[] }', sa.robotFromUrdf(${JSON.stringify(URDF)}, { tip: 'tool' }));
+add('ReturnType<typeof T.importUrdf>', sa.importUrdf(${JSON.stringify(URDF)}, { tip: 'tool', radii: { fore: 0.03 } }));
 const q = [0.1, -0.4, 0.2, -1.8, 0.1, 1.4, 0.6];
 add('T.ForwardKinematics', sa.forwardKinematics('panda', q));
 add('T.ForwardKinematics', sa.forwardKinematics('dual-arm', new Float64Array(sa.robotPreset('dual-arm').joints.length + sa.robotPreset('dual-arm').branches.reduce((s, b) => s + b.joints.length, 0))));
@@ -122,7 +123,7 @@ console.log(n);
 // Every export as the docs show it, under strict flags; printed results are checked.
 const USAGE = `
 import {
-  robotPreset, presetNames, robotFromUrdf, forwardKinematics, skeleton, controlPoint, skeletonPoint,
+  robotPreset, presetNames, robotFromUrdf, importUrdf, forwardKinematics, skeleton, controlPoint, skeletonPoint,
   distance, referencePoint, translateShape, simulate, exampleScenario, exampleScenarioNames,
   monteCarlo, monteCarloRuns, monteCarloMerge, World, Viewer,
   type EventOf, type TraceEvent, type Primitive, type Scenario, type PresetName,
@@ -131,6 +132,8 @@ import {
 declare const console: { log(...values: unknown[]): void };
 const xml = ${JSON.stringify(URDF)};
 const robot = robotFromUrdf(xml, { tip: 'tool', base: undefined });
+const imported = importUrdf(xml, { radii: { upper: 0.05 } });
+const byName = forwardKinematics(robot, { shoulder: 0.1, elbow: -0.2 });
 const presets: PresetName[] = ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm', 'stanford'];
 const fk = forwardKinematics(robotPreset(presets[5]!), new Float64Array(6));
 const parts = skeleton('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8]).segments.map((s) => s.part.toUpperCase());
@@ -170,7 +173,7 @@ try {
   viewer = (e as Error).message;
 }
 console.log(JSON.stringify({
-  joints: robot.jointNames, presets: presetNames(), examples: exampleScenarioNames().length, fk: fk.origins.length, parts,
+  joints: robot.jointNames, radiusFrom: imported.report.joints.map((j) => j.radiusFrom), byName: byName.origins.length, presets: presetNames(), examples: exampleScenarioNames().length, fk: fk.origins.length, parts,
   cp: cp.jTheta.length, sp: sp.link, d: d.distance, normal: d.normal, unique: d.unique, moved: referencePoint(moved),
   stops: stops.length, described: described.length, time, clearance, runs: study.runs, same: JSON.stringify(merged) === JSON.stringify(study), viewer,
 }));
@@ -209,6 +212,8 @@ test('every field the runtime returns is declared, every required field is retur
   assert.equal(ran.status, 0, ran.out);
   const r = JSON.parse(ran.out.trim().split('\n').pop());
   assert.deepEqual(r.joints, ['shoulder', 'elbow']);
+  assert.deepEqual(r.radiusFrom, ['override', 'default']);
+  assert.equal(r.byName, 3);
   assert.deepEqual(r.presets, ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm', 'stanford']);
   assert.equal(r.examples, 6);
   assert.equal(r.fk, 7);

@@ -207,9 +207,10 @@ pub fn joint_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
     Ok(v)
 }
 
-/// A robot from a JS value: a robot spec object, `{ preset: name }`, or a
-/// preset name.
-pub fn robot(value: JsValue) -> Result<Robot, JsError> {
+/// A robot from a JS value (a robot spec object, `{ preset: name }`, or a
+/// preset name) and the spec's `jointNames` (for joint vectors given by
+/// name).
+pub fn robot_named(value: JsValue) -> Result<(Robot, Option<Vec<String>>), JsError> {
     let spec: RobotSpec = if let Some(name) = value.as_string() {
         presets::preset(&name).map_err(|e| js_error(&e.within("robot")))?
     } else if value.is_object() {
@@ -250,7 +251,69 @@ pub fn robot(value: JsValue) -> Result<Robot, JsError> {
             ),
         )));
     };
-    Robot::from_spec(&spec).map_err(|e| js_error(&e))
+    let robot = Robot::from_spec(&spec).map_err(|e| js_error(&e))?;
+    Ok((robot, spec.joint_names))
+}
+
+/// Joint values given by name, `{ name: value, … }`, in the order of
+/// `names` (a robot's `jointNames`); every joint must be named once.
+///
+/// # Errors
+/// `field: joint values by name need a robot with jointNames`,
+/// `field.x: no joint named "x" (joints: …)`, `field: missing joint "y"`,
+/// `field.x: not a finite number`.
+pub fn named_joints(
+    field: &str,
+    map: &serde_json::Map<String, serde_json::Value>,
+    names: Option<&[String]>,
+) -> Result<Vec<f64>, FieldError> {
+    let Some(names) = names else {
+        return Err(FieldError::new(
+            field,
+            "joint values by name need a robot with jointNames (a URDF import, or a spec that names its joints); give an array otherwise",
+        ));
+    };
+    for key in map.keys() {
+        if !names.iter().any(|n| n == key) {
+            return Err(FieldError::new(
+                format!("{field}.{key}"),
+                format!("no joint named \"{key}\" (joints: {})", names.join(", ")),
+            ));
+        }
+    }
+    names
+        .iter()
+        .map(|n| {
+            let v = map
+                .get(n)
+                .ok_or_else(|| FieldError::new(field, format!("missing joint \"{n}\"")))?;
+            let x = v
+                .as_f64()
+                .ok_or_else(|| FieldError::new(format!("{field}.{n}"), "not a finite number"))?;
+            crate::error::bounded(&format!("{field}.{n}"), x, crate::kinematics::MAX_MAGNITUDE)?;
+            Ok(x)
+        })
+        .collect()
+}
+
+/// A joint vector as an array or a `Float64Array` ([`joint_vec`]), or by
+/// name (`{ panda_joint1: 0.1, … }`, [`named_joints`]).
+///
+/// # Errors
+/// As those two.
+pub fn joint_vec_named(
+    field: &str,
+    value: &JsValue,
+    names: Option<&[String]>,
+) -> Result<Vec<f64>, JsError> {
+    if value.is_object()
+        && !js_sys::Array::is_array(value)
+        && !value.has_type::<js_sys::Float64Array>()
+        && let serde_json::Value::Object(map) = read_json(field, value)?
+    {
+        return named_joints(field, &map, names).map_err(|e| js_error(&e));
+    }
+    joint_vec(field, value)
 }
 
 /// Refuses joints given as positional arrays (`[a, alpha, d, theta]`), which

@@ -23,13 +23,32 @@ pub(super) fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
     if !value.is_object() {
         return Err(js_error(&FieldError::new("scenario", "expected an object")));
     }
-    let json = super::boundary::read_json("scenario", &value)?;
-    if !json.is_object() {
+    let mut json = super::boundary::read_json("scenario", &value)?;
+    let Some(map) = json.as_object_mut() else {
         return Err(js_error(&FieldError::new("scenario", "expected an object")));
-    }
+    };
+    // `q0` by joint name (`{ panda_joint1: 0.1, … }`) is read once the robot is known.
+    let named_q0 = match map.remove("q0") {
+        Some(serde_json::Value::Object(q0)) => Some(q0),
+        Some(other) => {
+            map.insert("q0".to_owned(), other);
+            None
+        }
+        None => None,
+    };
     super::boundary::check_magnitudes("", &json)?;
-    let s: Scenario = super::convert::from_json_at("", "scenario", json.clone())?;
+    let mut s: Scenario = super::convert::from_json_at("", "scenario", json.clone())?;
     refuse_positional("", &json, &s)?;
+    if let Some(q0) = named_q0 {
+        let names = s
+            .robot
+            .spec()
+            .map_err(|e| js_error(&e.within("robot")))?
+            .joint_names;
+        s.q0 = Some(
+            super::convert::named_joints("q0", &q0, names.as_deref()).map_err(|e| js_error(&e))?,
+        );
+    }
     s.validate().map_err(|e| scenario_error(&e))?;
     Ok(s)
 }

@@ -322,7 +322,7 @@ impl World {
 /// joint. Rows without segments never meet in the query, so the pairs they
 /// add through two hops (their parent's other children, already adjacent)
 /// change nothing.
-fn link_adjacency(robot: &Robot) -> Vec<Vec<bool>> {
+pub(crate) fn link_adjacency(robot: &Robot) -> Vec<Vec<bool>> {
     let n = robot.dof() + 1;
     let direct: Vec<Vec<bool>> = (0..n)
         .map(|i| (0..n).map(|j| robot.adjacent(i, j)).collect())

@@ -26,8 +26,14 @@
 //! - Radii: the largest radius over the primitive collision geometry of the
 //!   links a row moves until the next joint (cylinder and capsule: their
 //!   radius; sphere: its radius; box: half the diagonal of its two smaller
-//!   sides); rows with only meshes (or nothing) keep the default radius
-//!   ([`super::DEFAULT_RADIUS`], 0.05 m).
+//!   sides); rows with only meshes (or nothing) get the default radius
+//!   ([`super::DEFAULT_RADIUS`], 0.05 m); [`UrdfOptions::radii`] replaces a
+//!   link's geometry by a radius.
+//! - The spec carries every value used (radius and motion limits, the
+//!   defaults written in); DH values are cleaned of rounding dust
+//!   ([`report::clean`]); [`import_urdf`] also returns a
+//!   [`report::UrdfReport`] of what was defaulted, left out, and which links
+//!   overlap at q = 0.
 //!
 //! Not imported: mimic joints, `floating`, `planar` and `spherical` joints in
 //! the chain (an error names the joint: choose a tip before it), closed loops
@@ -35,8 +41,9 @@
 //! (other arms, fingers, sensors) and the geometry of links outside it.
 
 pub mod dh;
+pub mod report;
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 use serde::Deserialize;
@@ -47,7 +54,7 @@ use crate::error::FieldError;
 use crate::math;
 
 /// Which part of the URDF to import.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(rename_all = "camelCase", deny_unknown_fields)]
 pub struct UrdfOptions {
     /// The link at the end of the chain; default: the end of the longest
@@ -59,6 +66,10 @@ pub struct UrdfOptions {
     /// root link.
     #[serde(default)]
     pub base: Option<String>,
+    /// Radius (m) per link name, instead of its collision geometry: a row's
+    /// radius is the largest over the links it moves.
+    #[serde(default)]
+    pub radii: Option<BTreeMap<String, f64>>,
 }
 
 /// A robot spec in standard DH from a URDF document.
@@ -90,6 +101,17 @@ pub struct UrdfOptions {
 ///
 /// See also [`dh::dh_chain`], [`Robot::from_spec`].
 pub fn robot_from_urdf(xml: &str, options: &UrdfOptions) -> Result<RobotSpec, FieldError> {
+    Ok(import_urdf(xml, options)?.robot)
+}
+
+/// [`robot_from_urdf`] with what it did: the spec (every motion limit and
+/// radius filled in) and a [`report::UrdfReport`] of the radii's sources,
+/// the defaulted limits, the links without primitive collision shapes, the
+/// joints outside the chain and the links overlapping at q = 0.
+///
+/// # Errors
+/// As [`robot_from_urdf`], and `radii.<link>: …` for a bad override.
+pub fn import_urdf(xml: &str, options: &UrdfOptions) -> Result<report::UrdfImport, FieldError> {
     let urdf = urdf_rs::read_from_string(xml)
         .map_err(|e| FieldError::new("xml", format!("not a readable URDF: {e}")))?;
     let tree = Tree::new(&urdf)?;
@@ -111,7 +133,9 @@ pub fn robot_from_urdf(xml: &str, options: &UrdfOptions) -> Result<RobotSpec, Fi
             ),
         ));
     }
-    chain.into_spec(&urdf.name)
+    let mut robot = chain.into_spec(&urdf.name)?;
+    let report = report::complete(&urdf, &path, &mut robot, options)?;
+    Ok(report::UrdfImport { robot, report })
 }
 
 /// The links and joints of a URDF as a tree.
@@ -376,10 +400,10 @@ impl Chain {
         let table = dh::dh_chain(&self.axes, &self.tip);
         let mut joints = self.joints;
         for (spec, row) in joints.iter_mut().zip(&table.rows) {
-            spec.a = row.a;
-            spec.alpha = row.alpha;
-            spec.d = row.d;
-            spec.theta = row.theta;
+            spec.a = report::clean(row.a);
+            spec.alpha = report::clean(row.alpha);
+            spec.d = report::clean(row.d);
+            spec.theta = report::clean(row.theta);
         }
         let mut spec = RobotSpec {
             name: (!name.is_empty()).then(|| name.to_owned()),
@@ -403,8 +427,8 @@ impl Chain {
 fn pose(t: &DAffine3) -> PoseSpec {
     let q = DQuat::from_mat3(&t.matrix3).normalize();
     PoseSpec {
-        position: t.translation.to_array(),
-        rotation: q.to_array(),
+        position: t.translation.to_array().map(report::clean_length),
+        rotation: q.to_array().map(report::clean_length),
     }
 }
 
