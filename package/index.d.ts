@@ -345,6 +345,8 @@ export interface TraceSample {
   q: number[];
   /** Joint velocities at `t` (rad/s or m/s). */
   qdot: number[];
+  /** Clearance (m) to each obstacle at `t` by id, within reach or not; self pairs apart. */
+  clearances: { [obstacleId: string]: number };
   minClearance: number | null;
   controlPoints: TraceControlPoint[];
   /** Standard deviation of each joint's command from the sensing errors (absent when sensed exactly). */

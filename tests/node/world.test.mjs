@@ -305,3 +305,26 @@ test('[Symbol.dispose] frees a World once: disposing a freed World does nothing'
   v[Symbol.dispose]();
   assert.throws(() => v.time, /this World has been freed/);
 });
+
+test('trace samples carry the clearance to each obstacle, apart from self pairs, as World.clearance reads it', () => {
+  const s = sa.exampleScenario('human-panda');
+  s.duration = 0.3;
+  const trace = sa.simulate(s);
+  const ids = s.obstacles.map((o) => o.id).sort();
+  const w = new sa.World(s);
+  try {
+    for (const [k, sample] of trace.samples.entries()) {
+      assert.deepEqual(Object.keys(sample.clearances).sort(), ids);
+      if (k % 100 === 0) {
+        for (const id of ids) assert.equal(sample.clearances[id], w.clearance(id), `t = ${sample.t}, ${id}`);
+      }
+      if (k < trace.samples.length - 1) w.step(s.dt);
+    }
+  } finally {
+    w.free();
+  }
+  // The person's clearance is its own; minClearance also counts the floor and self pairs.
+  const person = Math.min(...trace.samples.map((x) => x.clearances.person));
+  const overall = Math.min(...trace.samples.map((x) => x.minClearance ?? Infinity));
+  assert.ok(person > overall, `person ${person}, overall ${overall}`);
+});

@@ -41,6 +41,12 @@ pub struct Sample {
     /// Smallest clearance between the arm and any obstacle (or between
     /// non-adjacent links) within reach (m; `null` when none is).
     pub min_clearance: Option<f64>,
+    /// Clearance (m) between the arm and each obstacle at `t` (true pose),
+    /// by id, within reach or not; self pairs are not in it (negative:
+    /// overlap). "How close did the arm come to the person" is the minimum
+    /// of `clearances["person"]` over the samples.
+    #[serde(default)]
+    pub clearances: std::collections::BTreeMap<String, f64>,
     /// Active control points.
     pub control_points: Vec<TracePoint>,
     /// Standard deviation of each joint's command from the sensing errors

@@ -356,18 +356,27 @@ pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
     let steps = (scenario.duration / scenario.dt).round() as u64;
     let every = scenario.sample_every.max(1) as u64;
     let mut samples = Vec::new();
-    for k in 0..steps {
+    // A sample is the state a step acts on: the clearance to each obstacle
+    // is measured before the step, the rest comes from the step.
+    let take = |world: &mut World| {
+        let clearances = world.clearances();
         world.step(scenario.dt);
+        let mut sample = world.sample();
+        sample.clearances = clearances;
+        sample
+    };
+    for k in 0..steps {
         if k % every == 0 {
-            samples.push(world.sample());
+            samples.push(take(&mut world));
+        } else {
+            world.step(scenario.dt);
         }
     }
     // The sample at `t = duration`: one more control step evaluates the
     // state there (clearances, control points); only its sample is kept,
     // not its motion or its events.
     let events = world.events.len();
-    world.step(scenario.dt);
-    samples.push(world.sample());
+    samples.push(take(&mut world));
     world.events.truncate(events);
     Ok(Trace {
         samples,

@@ -14,6 +14,19 @@ impl World {
         &self.motion.qdot
     }
 
+    /// [`World::clearance_of`] every obstacle now, by id (infinite ones
+    /// left out: a robot without segments).
+    #[must_use]
+    pub fn clearances(&self) -> std::collections::BTreeMap<String, f64> {
+        self.obstacles
+            .iter()
+            .filter_map(|o| {
+                let d = self.clearance_of(&o.spec.id).ok()?;
+                d.is_finite().then(|| (o.spec.id.clone(), d))
+            })
+            .collect()
+    }
+
     /// Clearance (m) between the arm's volumes and obstacle `id` at its
     /// current (true) pose; negative by the penetration depth when they
     /// overlap, infinite for a robot without segments.

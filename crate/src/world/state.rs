@@ -294,6 +294,7 @@ impl World {
             t: self.step_t,
             q: self.step_q.clone(),
             qdot: self.step_qdot.clone(),
+            clearances: std::collections::BTreeMap::new(),
             min_clearance: self.min_clearance,
             control_points: self
                 .points
