@@ -60,10 +60,20 @@ function writeEntries(names) {
   fs.writeFileSync(
     path.join(pkgDir, 'index.web.js'),
     `${HEADER}import init from './web/skeleton_avoidance.js';\n` +
-      `await init();\n` +
+      `try {\n  await init();\n} catch (err) {\n  ${LOAD_ERROR}\n}\n` +
       `export { ${names.join(', ')} } from './web/skeleton_avoidance.js';\n`,
   );
 }
+
+/**
+ * What a page sees when the wasm cannot be fetched or compiled (a bundler
+ * that did not emit it, a server without it): one Error that says which
+ * file and what to do, instead of the browser's "expected magic word".
+ */
+const LOAD_ERROR =
+  "throw new Error(`skeleton-avoidance: the WebAssembly module web/skeleton_avoidance_bg.wasm could not be loaded (${err instanceof Error ? err.message : err}). " +
+  "It must be served beside the code that imports it, as application/wasm: Vite and webpack emit it by themselves; with esbuild or a copy of the files, " +
+  "put skeleton_avoidance_bg.wasm next to the bundle (docs/js-api.md, Loading it in a page).`);";
 
 /** The relative modules `file` (in `dir`) imports or starts as a worker. */
 function localImports(dir, file) {
@@ -96,7 +106,7 @@ function copyElement() {
     `${HEADER}import init, * as wasm from '../web/skeleton_avoidance.js';\n\n` +
       `let ready = null;\n\n` +
       `/** Loads and initialises the wasm once per page; resolves to the module's exports. */\n` +
-      `export function loadWasm() {\n  ready ??= init().then(() => wasm);\n  return ready;\n}\n`,
+      `export function loadWasm() {\n  ready ??= init().then(() => wasm, (err) => {\n    ${LOAD_ERROR}\n  });\n  return ready;\n}\n`,
   );
 }
 

@@ -17,12 +17,12 @@ import fs from 'node:fs';
 import path from 'node:path';
 import zlib from 'node:zlib';
 import { serve } from '../../scripts/serve.mjs';
-import { launch } from '../browser/chromium.mjs';
+import { artifacts, launch } from '../browser/chromium.mjs';
 import { decodePng } from '../browser/png.mjs';
 import { installPackage } from './project.mjs';
 
 /** Gzipped bytes of the JS a bundle loads (every .js under `dir`, the study worker included). */
-const JS_BUDGET = { vite: 120_000, webpack: 120_000, esbuild: 120_000 };
+const JS_BUDGET = { vite: 90_000, webpack: 90_000, esbuild: 70_000 };
 /** Gzipped bytes of the wasm (the module with the renderer). */
 const WASM_BUDGET = 1_500_000;
 
@@ -115,7 +115,10 @@ async function checkPage(url, label) {
       return { triangles: pg.viewer.state().triangles, robot: pg.world.state().skeleton.nodes.length };
     });
     assert.ok(drawn.triangles > 100 && drawn.robot > 5, `${label}: ${JSON.stringify(drawn)}`);
-    const shot = decodePng(await page.locator('#pg').screenshot());
+    const png = await page.locator('#pg').screenshot();
+    fs.mkdirSync(artifacts, { recursive: true });
+    fs.writeFileSync(path.join(artifacts, `package-${label.replace(/\W+/g, '-')}.png`), png);
+    const shot = decodePng(png);
     const colours = new Set();
     for (let i = 0; i < shot.data.length; i += 4 * 7) colours.add((shot.data[i] << 16) | (shot.data[i + 1] << 8) | shot.data[i + 2]);
     assert.ok(colours.size > 20, `${label}: the element shows ${colours.size} colours`);
@@ -201,4 +204,33 @@ test('a plain <script type="module"> page, no bundler: an import map onto the pa
   };
   app('plain', `<script type="importmap">${JSON.stringify(map)}</script>\n<script type="module" src="./main.js"></script>`);
   await served(project, (url) => checkPage(`${url}plain/`, 'plain page'));
+});
+
+test('a bundle whose wasm is missing says so: the element shows the message, the import rejects with it', async () => {
+  const esbuild = await import('esbuild');
+  const dir = path.join(project, 'esbuild-missing');
+  fs.mkdirSync(dir, { recursive: true });
+  fs.writeFileSync(path.join(dir, 'element.js'), "import 'skeleton-avoidance/element';\n");
+  fs.writeFileSync(path.join(dir, 'api.js'), "import { presetNames } from 'skeleton-avoidance';\nwindow.result = presetNames();\n");
+  const dist = path.join(dir, 'dist');
+  await esbuild.build({ absWorkingDir: dir, entryPoints: ['element.js', 'api.js'], bundle: true, format: 'esm', outdir: dist, logLevel: 'warning' });
+  fs.writeFileSync(path.join(dist, 'element.html'), HTML('<script type="module" src="./element.js"></script>'));
+  fs.writeFileSync(path.join(dist, 'api.html'), '<!doctype html><title>api</title><link rel="icon" href="data:,"><script type="module" src="./api.js"></script>');
+  await served(dist, async (url) => {
+    const browser = await launch({ webgpu: false });
+    try {
+      const page = await browser.context.newPage();
+      await page.goto(`${url}element.html`);
+      const shown = await page.evaluate(() => document.getElementById('pg').ready.then(() => 'started', () => document.getElementById('pg').shadowRoot.textContent));
+      assert.match(shown, /skeleton-avoidance: the WebAssembly module web\/skeleton_avoidance_bg\.wasm could not be loaded/);
+      assert.match(shown, /next to the bundle/);
+      const api = await browser.context.newPage();
+      const failed = api.waitForEvent('pageerror', { timeout: 60_000 });
+      await api.goto(`${url}api.html`);
+      assert.match((await failed).message, /could not be loaded .*next to the bundle/);
+      assert.equal(await api.evaluate(() => window.result), undefined);
+    } finally {
+      await browser.close();
+    }
+  });
 });
