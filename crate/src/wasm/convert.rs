@@ -165,23 +165,35 @@ pub fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
 
 /// A vector of finite numbers from a JS `Array` of numbers or a typed array.
 pub fn f64_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
-    let expected = || {
-        js_error(&FieldError::new(
-            field,
-            "expected an array or a Float64Array of numbers",
-        ))
-    };
+    numbers(field, read_vector(field, value)?)
+}
+
+/// `value` read once as JSON, refused unless it is an object (arrays and
+/// typed arrays are objects; their JSON is an array).
+fn read_vector(field: &str, value: &JsValue) -> Result<serde_json::Value, JsError> {
     if !value.is_object() {
-        return Err(expected());
+        return Err(expected_numbers(field));
     }
-    let serde_json::Value::Array(items) = read_json(field, value)? else {
-        return Err(expected());
+    read_json(field, value)
+}
+
+fn expected_numbers(field: &str) -> JsError {
+    js_error(&FieldError::new(
+        field,
+        "expected an array or a Float64Array of numbers",
+    ))
+}
+
+/// The finite numbers of a JSON array.
+fn numbers(field: &str, json: serde_json::Value) -> Result<Vec<f64>, JsError> {
+    let serde_json::Value::Array(items) = json else {
+        return Err(expected_numbers(field));
     };
     items
         .iter()
         .enumerate()
         .map(|(k, v)| match v {
-            serde_json::Value::Number(n) => n.as_f64().ok_or_else(expected),
+            serde_json::Value::Number(n) => n.as_f64().ok_or_else(|| expected_numbers(field)),
             serde_json::Value::String(s) if s.starts_with(NON_FINITE_TAG) => Err(js_error(
                 &FieldError::new(format!("{field}[{k}]"), "not a finite number"),
             )),
@@ -193,9 +205,8 @@ pub fn f64_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
         .collect()
 }
 
-/// [`f64_vec`] with every element within ±1e6 (joint values, rates).
-pub fn joint_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
-    let v = f64_vec(field, value)?;
+/// Every element within ±1e6 (joint values, rates).
+fn bounded_joints(field: &str, v: Vec<f64>) -> Result<Vec<f64>, JsError> {
     for (k, x) in v.iter().enumerate() {
         crate::error::bounded(
             &format!("{field}[{k}]"),
@@ -296,7 +307,7 @@ pub fn named_joints(
         .collect()
 }
 
-/// A joint vector as an array or a `Float64Array` ([`joint_vec`]), or by
+/// A joint vector as an array or a `Float64Array` of numbers within ±1e6, or by
 /// name (`{ panda_joint1: 0.1, … }`, [`named_joints`]).
 ///
 /// # Errors
@@ -306,14 +317,13 @@ pub fn joint_vec_named(
     value: &JsValue,
     names: Option<&[String]>,
 ) -> Result<Vec<f64>, JsError> {
-    if value.is_object()
-        && !js_sys::Array::is_array(value)
-        && !value.has_type::<js_sys::Float64Array>()
-        && let serde_json::Value::Object(map) = read_json(field, value)?
-    {
-        return named_joints(field, &map, names).map_err(|e| js_error(&e));
+    // Read once: the JSON says whether it is a list or names.
+    match read_vector(field, value)? {
+        serde_json::Value::Object(map) => {
+            named_joints(field, &map, names).map_err(|e| js_error(&e))
+        }
+        json => bounded_joints(field, numbers(field, json)?),
     }
-    joint_vec(field, value)
 }
 
 /// Refuses joints given as positional arrays (`[a, alpha, d, theta]`), which
