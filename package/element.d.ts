@@ -26,6 +26,21 @@ export interface Playground {
   destroy(): void;
 }
 
+/** The widget without the element: `new Playground(root, options)`, then `start(scenario)`. */
+export declare const Playground: {
+  new (
+    root: ShadowRoot | HTMLElement,
+    options?: {
+      controls?: 'full' | 'minimal' | 'none' | undefined;
+      backend?: 'auto' | 'webgpu' | 'webgl2' | undefined;
+      view?: 'auto' | '3d' | 'top' | 'front' | 'side' | undefined;
+      speed?: number | undefined;
+      plot?: 'clearance' | 'dh' | 'qdot' | undefined;
+      stats?: boolean | undefined;
+    },
+  ): Playground;
+};
+
 /** `<skeleton-playground>`. */
 export declare class SkeletonPlayground extends HTMLElement {
   /** Resolves to the Playground once the first frames are drawn; rejects with the failure shown inside. */

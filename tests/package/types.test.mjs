@@ -190,6 +190,20 @@ export function misuses(): void {
 }
 `;
 
+// `skeleton-avoidance/element` as a page's TypeScript uses it.
+const ELEMENT = `
+import { SkeletonPlayground, Playground, loadWasm } from 'skeleton-avoidance/element';
+
+const made: SkeletonPlayground = document.createElement('skeleton-playground');
+made.setAttribute('scenario', 'human-panda');
+document.body.append(made);
+export const time: Promise<number> = made.ready.then((pg) => pg.world?.time ?? 0);
+export const names: Promise<string[]> = loadWasm().then((sa) => sa.presetNames());
+export const widget = new Playground(document.createElement('div'), { controls: 'none', plot: undefined });
+// @ts-expect-error: no such control mode.
+export const wrong = new Playground(document.createElement('div'), { controls: 'some' });
+`;
+
 test('every field the runtime returns is declared, every required field is returned (tsc --strict --exactOptionalPropertyTypes)', () => {
   fs.writeFileSync(path.join(dir, 'observe.mjs'), OBSERVE);
   const observed = sh(process.execPath, ['observe.mjs'], dir);
@@ -208,6 +222,17 @@ test('every field the runtime returns is declared, every required field is retur
   }));
   const typed = sh(tsc, ['-p', '.'], dir);
   assert.equal(typed.status, 0, `tsc:\n${typed.out.slice(0, 6000)}`);
+  // The element's declarations, in a program with the DOM's types.
+  fs.writeFileSync(path.join(dir, 'element.ts'), ELEMENT);
+  fs.writeFileSync(path.join(dir, 'tsconfig.element.json'), JSON.stringify({
+    compilerOptions: {
+      target: 'es2022', module: 'nodenext', moduleResolution: 'nodenext', strict: true,
+      exactOptionalPropertyTypes: true, noEmit: true, skipLibCheck: false, types: [], lib: ['es2022', 'dom'],
+    },
+    files: ['element.ts'],
+  }));
+  const element = sh(tsc, ['-p', 'tsconfig.element.json'], dir);
+  assert.equal(element.status, 0, `tsc (element):\n${element.out.slice(0, 4000)}`);
   const ran = sh(process.execPath, ['out/usage.js'], dir);
   assert.equal(ran.status, 0, ran.out);
   const r = JSON.parse(ran.out.trim().split('\n').pop());
