@@ -560,7 +560,7 @@ export class World {
   step(dt: number): void;
   /** `steps` control steps of `dt`. */
   advance(dt: number, steps: number): void;
-  /** Simulated time (s): the number of steps times their dt, summed. */
+  /** Simulated time (s): `k·dt` after k equal steps (no rounding drift). */
   readonly time: number;
   readonly eventCount: number;
   /** Joint values now (rad or m): a cheap read, without the whole state. */
