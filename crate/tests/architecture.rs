@@ -37,6 +37,10 @@ const LOWER: &[(&str, &str)] = &[
         "kinematics/urdf/dh.rs",
         include_str!("../src/kinematics/urdf/dh.rs"),
     ),
+    (
+        "kinematics/urdf/report.rs",
+        include_str!("../src/kinematics/urdf/report.rs"),
+    ),
 ];
 
 /// Modules built on top of the lower layers.

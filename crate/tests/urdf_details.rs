@@ -267,7 +267,7 @@ fn the_import_reports_what_it_defaulted_and_left_out() {
 
 #[test]
 fn an_import_starting_in_self_collision_names_the_links() {
-    use skeleton_avoidance::kinematics::urdf::import_urdf;
+    use skeleton_avoidance::world::import_urdf;
     // The iiwa with a 1 m collision cylinder on its last link (a needle
     // modelled carelessly): at q = 0 that link overlaps the ones below it.
     let fat = IIWA.replacen(

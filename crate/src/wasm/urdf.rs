@@ -40,6 +40,6 @@ pub fn robot_from_urdf(xml: JsValue, options: JsValue) -> Result<JsValue, JsErro
 #[wasm_bindgen(js_name = importUrdf)]
 pub fn import_urdf(xml: JsValue, options: JsValue) -> Result<JsValue, JsError> {
     let (xml, options) = read_args(xml, options)?;
-    let import = urdf::import_urdf(&xml, &options).map_err(|e| js_error(&e))?;
+    let import = crate::world::import_urdf(&xml, &options).map_err(|e| js_error(&e))?;
     to_js(&import)
 }

@@ -47,6 +47,9 @@ mod monitor;
 mod obstacles;
 mod probe;
 mod readout;
+mod start;
+
+pub use start::import_urdf;
 mod state;
 mod step;
 mod track;
@@ -322,7 +325,7 @@ impl World {
 /// joint. Rows without segments never meet in the query, so the pairs they
 /// add through two hops (their parent's other children, already adjacent)
 /// change nothing.
-pub(crate) fn link_adjacency(robot: &Robot) -> Vec<Vec<bool>> {
+fn link_adjacency(robot: &Robot) -> Vec<Vec<bool>> {
     let n = robot.dof() + 1;
     let direct: Vec<Vec<bool>> = (0..n)
         .map(|i| (0..n).map(|j| robot.adjacent(i, j)).collect())

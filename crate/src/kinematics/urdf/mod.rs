@@ -32,8 +32,7 @@
 //! - The spec carries every value used (radius and motion limits, the
 //!   defaults written in); DH values are cleaned of rounding dust
 //!   ([`report::clean`]); [`import_urdf`] also returns a
-//!   [`report::UrdfReport`] of what was defaulted, left out, and which links
-//!   overlap at q = 0.
+//!   [`report::UrdfReport`] of what was defaulted and left out.
 //!
 //! Not imported: mimic joints, `floating`, `planar` and `spherical` joints in
 //! the chain (an error names the joint: choose a tip before it), closed loops
@@ -106,8 +105,9 @@ pub fn robot_from_urdf(xml: &str, options: &UrdfOptions) -> Result<RobotSpec, Fi
 
 /// [`robot_from_urdf`] with what it did: the spec (every motion limit and
 /// radius filled in) and a [`report::UrdfReport`] of the radii's sources,
-/// the defaulted limits, the links without primitive collision shapes, the
-/// joints outside the chain and the links overlapping at q = 0.
+/// the defaulted limits, the links without primitive collision shapes and
+/// the joints outside the chain (`world::import_urdf` adds the links
+/// overlapping at q = 0).
 ///
 /// # Errors
 /// As [`robot_from_urdf`], and `radii.<link>: …` for a bad override.

@@ -4,7 +4,9 @@
 //! (and written into the spec, so the values used are visible), the links
 //! without primitive collision geometry, the joints outside the chain, and
 //! the pairs of links that overlap at the zero configuration (by their URDF
-//! names: an import that starts in self-collision says where).
+//! names: an import that starts in self-collision says where; computed by
+//! `world::import_urdf`, since skeletons and distances are built on this
+//! layer).
 //!
 //! Also the cleaning of the DH table: values within [`DUST`] of 0, ±π/2 or
 //! ±π are set to them exactly (`-1.11e-16` → `0`, `-0` → `0`).
@@ -15,10 +17,8 @@ use serde::Serialize;
 use urdf_rs::{Geometry, JointType as UrdfJointType};
 
 use super::UrdfOptions;
-use crate::distance::{BroadPhase, QueryOptions, Scene, Target};
 use crate::error::FieldError;
-use crate::kinematics::{DEFAULT_RADIUS, RadiusSpec, Robot, RobotSpec};
-use crate::skeleton::Skeleton;
+use crate::kinematics::{DEFAULT_RADIUS, RadiusSpec, RobotSpec};
 
 /// Values closer than this to 0, ±π/2 or ±π are rounding dust (rad or m).
 pub const DUST: f64 = 1e-14;
@@ -102,7 +102,9 @@ pub struct UrdfReport {
     /// Joints of the document outside the chain (not imported).
     pub outside_chain: Vec<String>,
     /// Self-collision at the zero configuration (non-adjacent links whose
-    /// volumes overlap): a simulation starting there stops at once.
+    /// volumes overlap): a simulation starting there stops at once. Filled
+    /// by `world::import_urdf` (the skeleton and the distance queries are
+    /// built on this module); empty from [`super::import_urdf`].
     pub start_contacts: Vec<StartContact>,
 }
 
@@ -249,62 +251,7 @@ pub(super) fn complete(
         .filter(|(k, _)| !path.contains(k))
         .map(|(_, j)| j.name.clone())
         .collect();
-    report.start_contacts = start_contacts(spec, &report.joints)?;
     Ok(report)
-}
-
-/// Non-adjacent rows whose volumes overlap at q = 0 (as a `World`'s
-/// self-collision query pairs them), named by their URDF links and joints.
-fn start_contacts(
-    spec: &RobotSpec,
-    joints: &[JointReport],
-) -> Result<Vec<StartContact>, FieldError> {
-    let robot = Robot::from_spec(spec)?;
-    let frames = robot.forward(&vec![0.0; robot.dof()])?;
-    let skeleton = Skeleton::build(&robot, &frames);
-    let adjacency = crate::world::link_adjacency(&robot);
-    let options = QueryOptions {
-        influence_distance: 0.0,
-        self_collision: true,
-        broad_phase: BroadPhase::BruteForce,
-    };
-    let pairs = Scene::new(Vec::new())
-        .query(&skeleton, &options, |i, j| adjacency[i][j])
-        .map_err(|e| FieldError::new("xml", e.to_string()))?;
-    let mut worst: BTreeMap<(usize, usize), f64> = BTreeMap::new();
-    for p in pairs {
-        let Target::Segment(other) = p.target else {
-            continue;
-        };
-        if p.distance >= 0.0 {
-            continue;
-        }
-        let (a, b) = (
-            skeleton.segments[p.segment].link,
-            skeleton.segments[other].link,
-        );
-        let key = (a.min(b), a.max(b));
-        let d = worst.entry(key).or_insert(p.distance);
-        *d = d.min(p.distance);
-    }
-    let name = |row: usize| -> (String, String) {
-        joints.get(row.wrapping_sub(1)).map_or_else(
-            || ("base".to_owned(), String::new()),
-            |j| (j.links.first().cloned().unwrap_or_default(), j.name.clone()),
-        )
-    };
-    Ok(worst
-        .into_iter()
-        .map(|((a, b), distance)| {
-            let (la, ja) = name(a);
-            let (lb, jb) = name(b);
-            StartContact {
-                links: [la, lb],
-                joints: [ja, jb],
-                distance,
-            }
-        })
-        .collect())
 }
 
 #[cfg(test)]
