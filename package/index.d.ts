@@ -81,7 +81,14 @@ export interface RobotSpec {
   branches?: BranchSpec[] | undefined;
   /** One unique name per joint, in the order of `q`. */
   jointNames?: string[] | undefined;
+  /** One unique name per link (the link each row moves), in the order of `q`. */
+  linkNames?: string[] | undefined;
+  /** Pairs of links that never repel each other (an SRDF's `disable_collisions`). */
+  selfCollisionExclude?: [LinkRef, LinkRef][] | undefined;
 }
+
+/** A link by row index (1-based, 0 the base) or by a name from `linkNames`. */
+export type LinkRef = number | string;
 
 /** A spec, `{ preset }` or a preset name. */
 export type RobotInput = RobotSpec | { preset: PresetName } | PresetName;
@@ -91,6 +98,8 @@ export interface UrdfOptions {
   tip?: string | undefined;
   /** Link the chain starts at (the world frame); default: the root link. */
   base?: string | undefined;
+  /** An SRDF document: its `disable_collisions` pairs become `selfCollisionExclude`. */
+  srdf?: string | undefined;
   /** Radius (m) per link name instead of its collision geometry; a row takes the largest over the links it moves. */
   radii?: { [linkName: string]: number } | undefined;
 }
@@ -240,6 +249,12 @@ export type Task =
 
 export interface Controller {
   mode?: 'velocity' | 'torque' | 'clik2' | undefined;
+  /** Velocity mode: one-sided constraints in one QP with the tasks (default) or the paper's repulsion. */
+  avoidance?: 'constraints' | 'repulsion' | undefined;
+  /** Clearance below which the constraints avoidance pushes the arm away (m; default 0.02, < influenceDistance). */
+  safetyBand?: number | undefined;
+  /** Further pairs of links left out of the self-collision query. */
+  selfCollisionExclude?: [LinkRef, LinkRef][] | undefined;
   selection?: 'pairs' | 'perObstacle' | 'pinned' | undefined;
   pinned?: DhPoint[] | undefined;
   influenceDistance?: number | undefined;
@@ -258,12 +273,13 @@ export interface Controller {
   /** Whether a point task subtracts its point's own sliding (eq. 4; default true). */
   movingPointTerms?: boolean | undefined;
   /** The protective layer beneath the repulsion. */
-  protective?: { enabled?: boolean | undefined; safetyDistance?: number | undefined; reactionTime?: number | undefined } | undefined;
+  protective?: { enabled?: boolean | undefined; safetyDistance?: number | undefined; reactionTime?: number | undefined; withdrawSpeed?: number | undefined } | undefined;
 }
 
 /** `World.controller()`: every field of `Controller` in effect. */
 export interface ControllerInEffect extends Controller {
   mode: 'velocity' | 'torque' | 'clik2';
+  avoidance: 'constraints' | 'repulsion';
   selection: 'pairs' | 'perObstacle' | 'pinned';
   pinned: DhPoint[];
   influenceDistance: number;
@@ -395,6 +411,8 @@ export type TraceEvent = { t: number } & (
   | { kind: 'unavoidable'; obstacle: string; segment: number; distance: number; excess: number }
   /** Times in s. */
   | { kind: 'transitionTooSlow'; obstacle: string; timeToCollision: number; remaining: number; braking: number; slowdown: number }
+  /** At the start the arm overlaps something: the deepest pair (`distance` ≤ 0, m) by link name, and how many pairs overlap. */
+  | { kind: 'startContact'; obstacle: string; link: string; distance: number; pairs: number }
 );
 
 export type EventKind = TraceEvent['kind'];

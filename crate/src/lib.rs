@@ -62,6 +62,7 @@ pub mod error;
 pub mod kinematics;
 pub mod linalg;
 pub mod math;
+pub mod reach;
 pub mod rng;
 pub mod scenario;
 pub mod skeleton;

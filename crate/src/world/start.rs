@@ -5,6 +5,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::avoidance::ControllerConfig;
 use crate::distance::{BroadPhase, QueryOptions, Scene, Target};
 use crate::error::FieldError;
 use crate::kinematics::urdf::report::{JointReport, StartContact, UrdfImport};
@@ -31,7 +32,9 @@ pub(super) fn start_contacts(
     let robot = Robot::from_spec(spec)?;
     let frames = robot.forward(&vec![0.0; robot.dof()])?;
     let skeleton = Skeleton::build(&robot, &frames);
-    let adjacency = super::link_adjacency(&robot);
+    // The pairs a World leaves out: adjacent links, the SRDF's and those
+    // no joint can move.
+    let adjacency = super::self_pairs_left_out(&robot, &ControllerConfig::default())?;
     let options = QueryOptions {
         influence_distance: 0.0,
         self_collision: true,
