@@ -9,7 +9,7 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-use skeleton_avoidance::avoidance::Selection;
+use skeleton_avoidance::avoidance::{Avoidance, Selection};
 use skeleton_avoidance::distance::{PrimitiveSpec, SphereSpec};
 use skeleton_avoidance::kinematics::{Robot, presets};
 use skeleton_avoidance::scenario::{
@@ -288,9 +288,17 @@ fn a_stop_settles_within_the_braking_time_and_holds() {
     assert!(settled <= budget * 1.1 + dt, "{settled} > {budget}");
 }
 
-/// Eq. 4's W: a heavier joint moves less for the same task.
+/// Eq. 4's W: a heavier joint moves less for the same task, with either
+/// avoidance (a gentle task gain, so that no joint saturates: at its speed
+/// limit a joint moves as fast as it can whatever its weight).
 #[test]
 fn joint_weights_shift_motion_to_lighter_joints() {
+    for avoidance in [Avoidance::Constraints, Avoidance::Repulsion] {
+        weights_shift_motion(avoidance);
+    }
+}
+
+fn weights_shift_motion(avoidance: Avoidance) {
     let run = |w: Option<Vec<f64>>| {
         let mut s = Scenario {
             robot: RobotRef::Preset("planar3".to_owned()),
@@ -310,13 +318,15 @@ fn joint_weights_shift_motion_to_lighter_joints() {
             sample_every: 1,
         };
         s.controller.joint_weights = w;
+        s.controller.avoidance = avoidance;
+        s.controller.task_gain = 1.0;
         let t = simulate(&s).unwrap();
         let last = &t.samples.last().unwrap().q;
         (last[0] - 0.3).abs()
     };
     let plain = run(None);
     let heavy = run(Some(vec![50.0, 1.0, 1.0]));
-    assert!(heavy < 0.5 * plain, "{heavy} vs {plain}");
+    assert!(heavy < 0.5 * plain, "{avoidance:?}: {heavy} vs {plain}");
     let _ = Selection::Pairs;
 }
 

@@ -10,7 +10,8 @@
 //!   The task is the objective, not a constraint: it is its own slack, so
 //!   the problem is infeasible only when the constraints contradict each
 //!   other or the velocity box.
-//! * `μ W`: eq. 4's joint weights times [`REGULARISATION`]. With
+//! * `μ W`: eq. 4's joint weights times [`REGULARISATION`] plus, near a
+//!   singularity, the variable damping of the paper's DLS inverse. With
 //!   `μ → 0` the unconstrained optimum is the weighted pseudoinverse
 //!   solution `J_W^† v`; `μ` is the damping near singularities and picks the
 //!   smallest motion in the task's null space — with nothing to do, the arm
@@ -81,24 +82,98 @@ fn objective(jac: &Mat, rhs: &[f64], config: &ControllerConfig) -> (Mat, Vec<f64
     let n = jac.cols;
     let mut h = Mat::zeros(n, n);
     let mut f = vec![0.0; n];
-    for r in 0..jac.rows {
-        let row = &jac.data[r * n..(r + 1) * n];
+    for (row, target) in jac.data.chunks_exact(n).zip(rhs) {
         for i in 0..n {
             if row[i] == 0.0 {
                 continue;
             }
-            f[i] += row[i] * rhs[r];
+            f[i] += row[i] * target;
             for j in 0..n {
                 h.data[i * n + j] += row[i] * row[j];
             }
         }
     }
-    let mu = REGULARISATION;
+    let mu = REGULARISATION + singular_damping(jac, config);
     let weights = config.joint_weights.as_deref().unwrap_or(&[]);
     for i in 0..n {
         h.data[i * n + i] += mu * weights.get(i).copied().unwrap_or(1.0);
     }
     (h, f)
+}
+
+/// The damping of a singularity, `λ²`: zero while the task Jacobian's
+/// smallest singular value `σ` is above `damping.epsilon`, rising to
+/// `damping.lambdaMax²` as `σ → 0` (`λ² = (1 − σ²/ε²) λ_max²`, the
+/// variable damping of the paper's DLS inverse). `σ²` is the smallest
+/// eigenvalue of `J Jᵀ` (one row per task row: at most 6 per chain), found
+/// by inverse iteration on its Cholesky factor.
+fn singular_damping(jac: &Mat, config: &ControllerConfig) -> f64 {
+    let (m, n) = (jac.rows, jac.cols);
+    let eps = config.damping.epsilon;
+    if m == 0 || eps <= 0.0 {
+        return 0.0;
+    }
+    // G = J Jᵀ with the rows a task leaves at zero (a planar arm's z)
+    // given a unit diagonal, so that they do not count as singular.
+    let mut g = vec![0.0; m * m];
+    for i in 0..m {
+        for j in 0..=i {
+            let v: f64 = (0..n).map(|c| jac.get(i, c) * jac.get(j, c)).sum();
+            g[i * m + j] = v;
+            g[j * m + i] = v;
+        }
+        if g[i * m + i] < 1e-18 {
+            g[i * m + i] = 1.0;
+        }
+    }
+    let Some(l) = cholesky(&g, m) else {
+        return config.damping.lambda_max.powi(2);
+    };
+    let mut x = vec![1.0; m];
+    let mut largest = 0.0;
+    for _ in 0..12 {
+        // y = G⁻¹ x by the two triangular solves.
+        for i in 0..m {
+            let s: f64 = x[i] - (0..i).map(|k| l[i * m + k] * x[k]).sum::<f64>();
+            x[i] = s / l[i * m + i];
+        }
+        for i in (0..m).rev() {
+            let s: f64 = x[i] - (i + 1..m).map(|k| l[k * m + i] * x[k]).sum::<f64>();
+            x[i] = s / l[i * m + i];
+        }
+        let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(norm.is_finite() && norm > 0.0) {
+            return config.damping.lambda_max.powi(2);
+        }
+        largest = norm;
+        x.iter_mut().for_each(|v| *v /= norm);
+    }
+    let sigma2 = 1.0 / largest;
+    if sigma2 >= eps * eps {
+        0.0
+    } else {
+        (1.0 - sigma2 / (eps * eps)) * config.damping.lambda_max.powi(2)
+    }
+}
+
+/// The lower Cholesky factor of the `m × m` matrix `g`, or `None` when it
+/// is not positive definite.
+fn cholesky(g: &[f64], m: usize) -> Option<Vec<f64>> {
+    let mut l = vec![0.0; m * m];
+    for i in 0..m {
+        for j in 0..=i {
+            let s = g[i * m + j] - (0..j).map(|k| l[i * m + k] * l[j * m + k]).sum::<f64>();
+            if i == j {
+                if !(s > 1e-30 && s.is_finite()) {
+                    return None;
+                }
+                l[i * m + i] = s.sqrt();
+            } else {
+                l[i * m + j] = s / l[j * m + j];
+            }
+        }
+    }
+    Some(l)
 }
 
 /// The `constraints` avoidance: the joint velocity that best serves
@@ -120,26 +195,7 @@ pub fn constrained_velocity(
     out: &mut Vec<f64>,
 ) -> Result<Outcome, FieldError> {
     let level = task_level(robot, frames, tasks, config, config.task_gain)?;
-    let (h, mut f) = objective(&level.jac, &level.rhs, config);
-    // Speed scaling: a task velocity the joints cannot follow is scaled
-    // down as a whole (its direction and eq. 4's distribution over the
-    // joints kept) instead of being bent by the velocity box.
-    if qp::unconstrained(&h, &f, ws, out) {
-        let scale = out
-            .iter()
-            .zip(lo.iter().zip(hi))
-            .map(|(x, (l, u))| {
-                if *x > *u && *x > 0.0 {
-                    (u / x).max(0.0)
-                } else if *x < *l && *x < 0.0 {
-                    (l / x).max(0.0)
-                } else {
-                    1.0
-                }
-            })
-            .fold(1.0, f64::min);
-        f.iter_mut().for_each(|v| *v *= scale);
-    }
+    let (h, f) = objective(&level.jac, &level.rhs, config);
     let rows: Vec<(&[f64], f64)> = guards
         .iter()
         .map(|g| (g.row.as_slice(), g.bound.min(g.soft)))
