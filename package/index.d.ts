@@ -1,7 +1,10 @@
 // Type declarations of the `skeleton-avoidance` npm package, written by hand
 // from docs/js-api.md and docs/scenarios.md (wasm-bindgen types plain objects
-// as `any`). SI units, radians, z up; quaternions [x, y, z, w]; matrices as
-// arrays of rows.
+// as `any`) and checked against what the runtime returns by the package
+// layer's tests (tests/package). SI units, radians, z up; quaternions
+// [x, y, z, w]; matrices as arrays of rows. Optional fields accept
+// `undefined` (for `exactOptionalPropertyTypes`).
+/// <reference lib="esnext.disposable" />
 
 export type Vec3 = [number, number, number];
 /** Unit quaternion `[x, y, z, w]`. */
@@ -10,16 +13,21 @@ export type Quat = [number, number, number, number];
 export type Matrix4 = number[][];
 /** Joint values: a plain array or a `Float64Array`. */
 export type JointVector = number[] | Float64Array;
+/** Joint values by name, `{ panda_joint1: 0.1, … }`, for a robot with `jointNames` (every joint named once). */
+export type NamedJoints = { [jointName: string]: number };
+/** Where `q` / `q0` are taken: an array, a `Float64Array`, or by joint name. */
+export type JointInput = JointVector | NamedJoints;
 
 // ---- robots ----
 
-export type PresetName = 'planar3' | 'lwr4' | 'panda' | 'ur5' | 'dual-arm' | (string & {});
+/** The library's presets (`presetNames()` lists the same). */
+export type PresetName = 'planar3' | 'lwr4' | 'panda' | 'ur5' | 'dual-arm' | 'stanford';
 
 export interface Pose {
   /** Translation (m); default `[0, 0, 0]`. */
-  position?: Vec3;
+  position?: Vec3 | undefined;
   /** Unit quaternion `[x, y, z, w]`; default identity. */
-  rotation?: Quat;
+  rotation?: Quat | undefined;
 }
 
 /** One DH row. */
@@ -32,51 +40,51 @@ export interface JointSpec {
   d: number;
   /** Joint angle (rad); the offset added to a revolute joint's value. */
   theta: number;
-  type?: 'revolute' | 'prismatic';
+  type?: 'revolute' | 'prismatic' | undefined;
   /** Position limits (rad or m). */
-  min?: number;
-  max?: number;
+  min?: number | undefined;
+  max?: number | undefined;
   /** rad/s or m/s, > 0. */
-  maxVelocity?: number;
+  maxVelocity?: number | undefined;
   /** rad/s² or m/s², > 0. */
-  maxAcceleration?: number;
+  maxAcceleration?: number | undefined;
   /** rad/s³ or m/s³, > 0. */
-  maxJerk?: number;
+  maxJerk?: number | undefined;
   /** N·m or N, > 0. */
-  maxTorque?: number;
+  maxTorque?: number | undefined;
   /** Radius of the link's volume (m), or `[r0, r1]` tapered along each segment; default 0.05. */
-  radius?: number | [number, number];
+  radius?: number | [number, number] | undefined;
   /** Spine behind the joint (m, ≥ 0): counterbalances, motors. */
-  extension?: number;
+  extension?: number | undefined;
 }
 
 export interface BranchSpec {
-  name?: string;
+  name?: string | undefined;
   /** 1-based row whose frame carries the branch; 0 is the base. */
   parent: number;
   /** Rotation `[x, y, z, w]` from the parent frame to the branch's first row. */
-  mount?: Quat;
+  mount?: Quat | undefined;
   joints: JointSpec[];
-  tool?: Pose;
+  tool?: Pose | undefined;
 }
 
 /** A robot described by its DH table. */
 export interface RobotSpec {
-  name?: string;
+  name?: string | undefined;
   convention: 'standard' | 'modified';
   /** Pose of frame 0 in the world. */
-  base?: Pose;
+  base?: Pose | undefined;
   joints: JointSpec[];
   /** Transform after the main chain's last row. */
-  tool?: Pose;
+  tool?: Pose | undefined;
   /** Further chains on the same base. */
-  branches?: BranchSpec[];
+  branches?: BranchSpec[] | undefined;
   /** One unique name per joint, in the order of `q`. */
-  jointNames?: string[];
+  jointNames?: string[] | undefined;
   /** One unique name per link (the link each row moves), in the order of `q`. */
-  linkNames?: string[];
+  linkNames?: string[] | undefined;
   /** Pairs of links that never repel each other (an SRDF's `disable_collisions`). */
-  selfCollisionExclude?: [LinkRef, LinkRef][];
+  selfCollisionExclude?: [LinkRef, LinkRef][] | undefined;
 }
 
 /** A link by row index (1-based, 0 the base) or by a name from `linkNames`. */
@@ -87,16 +95,43 @@ export type RobotInput = RobotSpec | { preset: PresetName } | PresetName;
 
 export interface UrdfOptions {
   /** Link the chain ends at; default: the end of the longest movable chain. */
-  tip?: string;
+  tip?: string | undefined;
   /** Link the chain starts at (the world frame); default: the root link. */
-  base?: string;
+  base?: string | undefined;
   /** An SRDF document: its `disable_collisions` pairs become `selfCollisionExclude`. */
-  srdf?: string;
+  srdf?: string | undefined;
+  /** Radius (m) per link name instead of its collision geometry; a row takes the largest over the links it moves. */
+  radii?: { [linkName: string]: number } | undefined;
   /**
    * Mesh files by path (`robot/meshes/link1.stl`): STL, OBJ, COLLADA, glTF,
    * GLB. Given, the radii are fitted to the links' collision meshes.
    */
-  meshes?: Record<string, Uint8Array | ArrayBuffer>;
+  meshes?: Record<string, Uint8Array | ArrayBuffer> | undefined;
+}
+
+/** What `importUrdf` did for one joint (one DH row). */
+export interface UrdfJointReport {
+  name: string;
+  /** The links it moves up to the next joint. */
+  links: string[];
+  /** The radius of its volume (m). */
+  radius: number;
+  radiusFrom: 'collision' | 'override' | 'default';
+  /** Limits the URDF did not give, filled with the documented defaults. */
+  defaulted: ('maxVelocity' | 'maxAcceleration' | 'maxJerk' | 'maxTorque')[];
+  /** Whether it has position limits (continuous joints have none). */
+  positionLimits: boolean;
+}
+
+/** What `importUrdf` did besides the spec. */
+export interface UrdfReport {
+  joints: UrdfJointReport[];
+  /** Links of the chain with only meshes or no collision shape. */
+  linksWithoutPrimitive: string[];
+  /** Joints of the document outside the chain (not imported). */
+  outsideChain: string[];
+  /** Non-adjacent links overlapping at q = 0 (a simulation starting there stops at once). */
+  startContacts: { links: [string, string]; joints: [string, string]; distance: number }[];
 }
 
 /** How well volumes cover one link's collision mesh (or the robot's). */
@@ -149,6 +184,7 @@ export interface SkeletonSegment {
   to: number;
   /** 1-based DH row. */
   link: number;
+  /** Which translation of the row the segment spans. */
   part: 'd' | 'a' | 'extension';
   radius: [number, number];
 }
@@ -168,8 +204,8 @@ export interface DhPoint {
 
 export interface ControlPointRates {
   qdot: JointVector;
-  aRate?: number;
-  dRate?: number;
+  aRate?: number | undefined;
+  dRate?: number | undefined;
 }
 
 export interface ControlPointResult {
@@ -178,12 +214,12 @@ export interface ControlPointResult {
   jTheta: number[][];
   jA: number[][];
   jD: number[][];
-  segment?: number;
-  t?: number;
-  velocity?: Vec3;
-  jThetaDot?: number[][];
-  jADot?: number[][];
-  jDDot?: number[][];
+  segment?: number | undefined;
+  t?: number | undefined;
+  velocity?: Vec3 | undefined;
+  jThetaDot?: number[][] | undefined;
+  jADot?: number[][] | undefined;
+  jDDot?: number[][] | undefined;
 }
 
 // ---- primitives ----
@@ -198,15 +234,16 @@ export type Primitive =
   | { type: 'rectangle'; center: Vec3; axes: [Vec3, Vec3]; halfExtents: [number, number] }
   | { type: 'disk'; center: Vec3; normal: Vec3; radius: number }
   | { type: 'polygon'; vertices: Vec3[] }
-  | { type: 'box'; center: Vec3; halfExtents: Vec3; rotation: Quat }
+  /** `rotation` default: identity. */
+  | { type: 'box'; center: Vec3; halfExtents: Vec3; rotation?: Quat | undefined }
   | { type: 'convexHull'; points: Vec3[] };
 
 export interface Human {
   type: 'human';
   position: Vec3;
-  heading?: number;
-  height?: number;
-  reach?: number;
+  heading?: number | undefined;
+  height?: number | undefined;
+  reach?: number | undefined;
 }
 
 export type Shape = Primitive | Human;
@@ -216,6 +253,10 @@ export interface DistanceResult {
   distance: number;
   pointA: Vec3;
   pointB: Vec3;
+  /** Unit vector with `pointB − pointA = distance × normal`. */
+  normal: Vec3;
+  /** False when equally close witnesses form a family (the witnesses are then its middle). */
+  unique: boolean;
 }
 
 // ---- scenarios ----
@@ -223,99 +264,112 @@ export interface DistanceResult {
 export type Motion =
   | { type: 'static' }
   | { type: 'linear'; velocity: Vec3 }
-  | { type: 'waypoints'; points: Vec3[]; times: number[]; loop?: boolean }
+  | { type: 'waypoints'; points: Vec3[]; times: number[]; loop?: boolean | undefined }
   | { type: 'circular'; center: Vec3; axis: Vec3; period: number };
 
 export interface Obstacle {
   id: string;
   shape: Shape;
-  motion?: Motion;
+  motion?: Motion | undefined;
 }
 
 export type Task =
   | { type: 'hold' }
-  | { type: 'goal'; position: Vec3; orientation?: Quat; chain?: number }
-  | { type: 'trajectory'; points: Vec3[]; times: number[]; chain?: number }
+  | { type: 'goal'; position: Vec3; orientation?: Quat | undefined; chain?: number | undefined }
+  | { type: 'trajectory'; points: Vec3[]; times: number[]; chain?: number | undefined }
   /** Eq. 4's task: a point whose DH values slide from `from` to `to` holds `position`. */
   | {
       type: 'point';
       link: number;
       from: { d: number; a: number };
       to: { d: number; a: number };
-      start?: number;
+      start?: number | undefined;
       duration: number;
-      position?: Vec3;
+      position?: Vec3 | undefined;
     };
 
 export interface Controller {
-  mode?: 'velocity' | 'torque' | 'clik2';
+  mode?: 'velocity' | 'torque' | 'clik2' | undefined;
   /** Velocity mode: one-sided constraints in one QP with the tasks (default) or the paper's repulsion. */
-  avoidance?: 'constraints' | 'repulsion';
+  avoidance?: 'constraints' | 'repulsion' | undefined;
   /** Clearance below which the constraints avoidance pushes the arm away (m; default 0.02, < influenceDistance). */
-  safetyBand?: number;
+  safetyBand?: number | undefined;
   /** Further pairs of links left out of the self-collision query. */
-  selfCollisionExclude?: [LinkRef, LinkRef][];
-  selection?: 'pairs' | 'perObstacle' | 'pinned';
-  pinned?: DhPoint[];
-  influenceDistance?: number;
-  repulsionGain?: number;
-  maxRepulsionSpeed?: number;
-  transitionTime?: number;
-  jumpThreshold?: number;
-  activationBand?: number;
-  taskGain?: number;
+  selfCollisionExclude?: [LinkRef, LinkRef][] | undefined;
+  selection?: 'pairs' | 'perObstacle' | 'pinned' | undefined;
+  pinned?: DhPoint[] | undefined;
+  influenceDistance?: number | undefined;
+  repulsionGain?: number | undefined;
+  maxRepulsionSpeed?: number | undefined;
+  transitionTime?: number | undefined;
+  jumpThreshold?: number | undefined;
+  activationBand?: number | undefined;
+  taskGain?: number | undefined;
   /** One positive weight per joint (eq. 4's W). */
-  jointWeights?: number[];
-  damping?: { epsilon?: number; lambdaMax?: number };
-  torque?: { stiffness?: number; damping?: number; jointDamping?: number; inertia?: number; forceGain?: number };
-  clik2?: { kp?: number; kd?: number };
-  selfCollision?: boolean;
+  jointWeights?: number[] | undefined;
+  damping?: { epsilon?: number | undefined; lambdaMax?: number | undefined } | undefined;
+  torque?: { stiffness?: number | undefined; damping?: number | undefined; jointDamping?: number | undefined; inertia?: number | undefined; forceGain?: number | undefined } | undefined;
+  clik2?: { kp?: number | undefined; kd?: number | undefined } | undefined;
+  selfCollision?: boolean | undefined;
   /** Whether a point task subtracts its point's own sliding (eq. 4; default true). */
-  movingPointTerms?: boolean;
+  movingPointTerms?: boolean | undefined;
   /** The protective layer beneath the repulsion. */
-  protective?: { enabled?: boolean; safetyDistance?: number; reactionTime?: number; withdrawSpeed?: number };
+  protective?: { enabled?: boolean | undefined; safetyDistance?: number | undefined; reactionTime?: number | undefined; withdrawSpeed?: number | undefined } | undefined;
+}
+
+/** `World.controller()`: every field of `Controller` in effect. */
+export interface ControllerInEffect extends Controller {
+  mode: 'velocity' | 'torque' | 'clik2';
+  avoidance: 'constraints' | 'repulsion';
+  selection: 'pairs' | 'perObstacle' | 'pinned';
+  pinned: DhPoint[];
+  influenceDistance: number;
+  repulsionGain: number;
+  maxRepulsionSpeed: number;
+  transitionTime: number;
 }
 
 /** Sensing model of one obstacle (docs/scenarios.md, Sensing); every field ≥ 0, absent = 0. */
 export interface SensingError {
   /** Bound of the error redrawn every step (m). */
-  bound?: number;
+  bound?: number | undefined;
   /** Bound of the fixed offset drawn once per run (m). */
-  biasBound?: number;
+  biasBound?: number | undefined;
   /** White Gaussian standard deviation per axis (m). */
-  sigma?: number;
+  sigma?: number | undefined;
   /** Stationary standard deviation of the Gauss–Markov noise per axis (m). */
-  correlatedSigma?: number;
+  correlatedSigma?: number | undefined;
   /** Time constant of the correlated noise (s; default 0.1). */
-  correlationTime?: number;
+  correlationTime?: number | undefined;
   /** Age of the sensed pose (s). */
-  latency?: number;
-  seed?: number;
+  latency?: number | undefined;
+  seed?: number | undefined;
 }
 
 export interface Dependability {
-  switchWindow?: number;
-  maxSwitches?: number;
-  onChattering?: 'stop' | 'lock';
-  lockTime?: number;
-  maxDeceleration?: number;
+  switchWindow?: number | undefined;
+  maxSwitches?: number | undefined;
+  onChattering?: 'stop' | 'lock' | undefined;
+  lockTime?: number | undefined;
+  maxDeceleration?: number | undefined;
   /** Switch probability above which `switchRisk` is raised, in (0, 1]; default 0.05. */
-  switchRisk?: number;
+  switchRisk?: number | undefined;
 }
 
 export interface Scenario {
-  robot: RobotInput;
-  q0?: JointVector;
+  /** A spec or `{ preset }` (a bare preset name is for the functions taking `RobotInput`, not for scenarios). */
+  robot: RobotSpec | { preset: PresetName };
+  q0?: JointInput | undefined;
   obstacles: Obstacle[];
   /** One task, or a list with at most one per chain. */
-  task?: Task | Task[];
-  controller?: Controller;
+  task?: Task | Task[] | undefined;
+  controller?: Controller | undefined;
   /** `default` and obstacle ids. */
-  sensing?: { [obstacleIdOrDefault: string]: SensingError };
-  dependability?: Dependability;
+  sensing?: { [obstacleIdOrDefault: string]: SensingError } | undefined;
+  dependability?: Dependability | undefined;
   dt: number;
   duration: number;
-  sampleEvery?: number;
+  sampleEvery?: number | undefined;
 }
 
 // ---- traces and state ----
@@ -328,7 +382,7 @@ export interface TraceControlPoint {
   obstacle: string;
   distance: number;
   /** First-order standard deviations from the sensing error (absent when sensed exactly). */
-  sigma?: PointSigma;
+  sigma?: PointSigma | undefined;
 }
 
 /** Standard deviations of a control point's quantities caused by the sensing error. */
@@ -343,12 +397,17 @@ export interface PointSigma {
 }
 
 export interface TraceSample {
+  /** s: `k·dt`; the last sample is at `t = duration`. */
   t: number;
   q: number[];
+  /** Joint velocities at `t` (rad/s or m/s). */
+  qdot: number[];
+  /** Clearance (m) to each obstacle at `t` by id, within reach or not; self pairs apart. */
+  clearances: { [obstacleId: string]: number };
   minClearance: number | null;
   controlPoints: TraceControlPoint[];
   /** Standard deviation of each joint's command from the sensing errors (absent when sensed exactly). */
-  commandSigma?: number[];
+  commandSigma?: number[] | undefined;
 }
 
 /** What `World.riskAt` returns: one cell of a risk map. */
@@ -357,8 +416,8 @@ export interface Risk {
   clearance: number | null;
   /** Probability that the closest segment, as sensed, differs from the ideal one. */
   switchProbability: number;
-  segment?: number;
-  alternative?: number;
+  segment?: number | undefined;
+  alternative?: number | undefined;
 }
 
 /** The sensing uncertainty of one obstacle in `WorldState`. */
@@ -370,32 +429,37 @@ export interface ObstacleUncertainty {
   sigma: number;
   /** Probability that its closest segment, as sensed, differs from the ideal one. */
   switchProbability: number;
-  segment?: number;
-  alternative?: number;
+  segment?: number | undefined;
+  alternative?: number | undefined;
 }
 
-export type EventKind =
-  | 'segmentSwitch'
-  | 'transitionStart'
-  | 'transitionEnd'
-  | 'switchRisk'
-  | 'chattering'
-  | 'stop'
-  | 'resume'
-  | 'lock'
-  | 'unlock'
-  | 'transitionTooSlow'
-  | 'unavoidable'
-  | 'startContact'
-  | (string & {});
+/** Every event: its time (s) and its kind's fields (docs/scenarios.md, Events). */
+export type TraceEvent = { t: number } & (
+  /** A control point's selected point moved to another segment. */
+  | { kind: 'segmentSwitch'; obstacle: string; from: number; to: number }
+  /** A control point started travelling along the skeleton (`duration`: s). */
+  | { kind: 'transitionStart'; obstacle: string; from: number; to: number; duration: number; replan: boolean }
+  | { kind: 'transitionEnd'; obstacle: string; segment: number }
+  /** The sensing error can switch the closest segment (`gap`, `margin`: m). */
+  | { kind: 'switchRisk'; obstacle: string; segment: number; alternative: number; gap: number; margin: number; probability: number }
+  | { kind: 'chattering'; obstacle: string; switches: number }
+  | { kind: 'stop'; reason: string }
+  | { kind: 'resume' }
+  /** A control point held on one segment until `until` (s). */
+  | { kind: 'lock'; obstacle: string; segment: number; until: number }
+  | { kind: 'unlock'; obstacle: string }
+  /** The protective layer cannot keep a pair's approach stoppable (`distance`: m, `excess`: m/s). */
+  | { kind: 'unavoidable'; obstacle: string; segment: number; distance: number; excess: number }
+  /** Times in s. */
+  | { kind: 'transitionTooSlow'; obstacle: string; timeToCollision: number; remaining: number; braking: number; slowdown: number }
+  /** At the start the arm overlaps something: the deepest pair (`distance` ≤ 0, m) by link name, and how many pairs overlap. */
+  | { kind: 'startContact'; obstacle: string; link: string; distance: number; pairs: number }
+);
 
-/** `{ t, kind }` and the fields of its kind (docs/scenarios.md). */
-export interface TraceEvent {
-  t: number;
-  kind: EventKind;
-  obstacle?: string;
-  [field: string]: unknown;
-}
+export type EventKind = TraceEvent['kind'];
+
+/** The event of one kind: `EventOf<'stop'>` is `{ t, kind: 'stop', reason }`. */
+export type EventOf<K extends EventKind> = Extract<TraceEvent, { kind: K }>;
 
 export interface Trace {
   samples: TraceSample[];
@@ -407,7 +471,7 @@ export interface StateControlPoint extends TraceControlPoint {
   /** m/s (velocity, clik2) or N (torque). */
   repulsion: Vec3;
   transitioning: boolean;
-  target?: DhPoint;
+  target?: DhPoint | undefined;
   /** The DH table of its shorter manipulator, one `{ d, a }` per row (fig. 5). */
   table: { d: number; a: number }[];
 }
@@ -424,9 +488,9 @@ export interface WorldState {
   uncertainty: ObstacleUncertainty[];
   /** The controller's command of the last step, before the protective layer and the limits. */
   command: number[];
-  commandSigma?: number[];
+  commandSigma?: number[] | undefined;
   events: TraceEvent[];
-  timeToCollision?: number;
+  timeToCollision?: number | undefined;
   stopped: boolean;
   /** Where the sliding point of each point task is now (m), in task order; empty without point tasks. */
   slidingPoints: Vec3[];
@@ -445,16 +509,16 @@ export interface MonteCarloOptions {
   /** Number of runs, 1..=10000 in one call. */
   runs: number;
   /** Seed of the study, an integer in 0..=2^53 − 1 (default 0). */
-  seed?: number;
+  seed?: number | undefined;
   /** Keep every run's row in the report (default false). */
-  rows?: boolean;
+  rows?: boolean | undefined;
 }
 
 /** Options of `monteCarloRuns`: runs `from .. from + count − 1` of a study. */
 export interface MonteCarloRunsOptions {
-  seed?: number;
+  seed?: number | undefined;
   /** First run (default 0). */
-  from?: number;
+  from?: number | undefined;
   /** Number of runs, 1..=10000. */
   count: number;
 }
@@ -505,7 +569,7 @@ export interface MonteCarloReport {
   transitionTooSlow: MonteCarloProbability;
   switchesPerSecond: { mean: number; max: number };
   worstTransitionSlack: number | null;
-  rows?: MonteCarloRow[];
+  rows?: MonteCarloRow[] | undefined;
 }
 
 /** A point of the skeleton picked with a ray: DH values usable in `controller.pinned`. */
@@ -528,10 +592,12 @@ export function robotPreset(name: PresetName): RobotSpec;
 export function presetNames(): string[];
 export function robotFromUrdf(xml: string, options?: UrdfOptions): RobotSpec & { jointNames: string[] };
 export function fitUrdf(xml: string, options: UrdfOptions): UrdfFit;
-export function forwardKinematics(robot: RobotInput, q: JointVector): ForwardKinematics;
-export function skeleton(robot: RobotInput, q: JointVector): SkeletonResult;
-export function controlPoint(robot: RobotInput, q: JointVector, point: DhPoint, rates?: ControlPointRates): ControlPointResult;
-export function skeletonPoint(robot: RobotInput, q: JointVector, at: { segment: number; t: number }): DhPoint & { position: Vec3 };
+/** `robotFromUrdf`'s spec and a report of what was read, defaulted and left out. */
+export function importUrdf(xml: string, options?: UrdfOptions): { robot: RobotSpec & { jointNames: string[] }; report: UrdfReport };
+export function forwardKinematics(robot: RobotInput, q: JointInput): ForwardKinematics;
+export function skeleton(robot: RobotInput, q: JointInput): SkeletonResult;
+export function controlPoint(robot: RobotInput, q: JointInput, point: DhPoint, rates?: ControlPointRates): ControlPointResult;
+export function skeletonPoint(robot: RobotInput, q: JointInput, at: { segment: number; t: number }): DhPoint & { position: Vec3 };
 export function distance(a: Primitive, b: Primitive): DistanceResult;
 /** A figure's reference point: the point motions move and `moveObstacle` places. */
 export function referencePoint(shape: Shape): Vec3;
@@ -545,7 +611,7 @@ export function monteCarlo(scenario: Scenario, options: MonteCarloOptions): Mont
 /** A block of runs of a study (for a progress bar); merge the rows with `monteCarloMerge`. */
 export function monteCarloRuns(scenario: Scenario, options: MonteCarloRunsOptions): MonteCarloRow[];
 /** The report of rows 0..n − 1 of one study, in any order. */
-export function monteCarloMerge(rows: MonteCarloRow[], options?: { rows?: boolean }): MonteCarloReport;
+export function monteCarloMerge(rows: MonteCarloRow[], options?: { rows?: boolean | undefined }): MonteCarloReport;
 
 /** A live simulation; JavaScript owns it: call `free()` when done. */
 export class World {
@@ -554,8 +620,17 @@ export class World {
   step(dt: number): void;
   /** `steps` control steps of `dt`. */
   advance(dt: number, steps: number): void;
+  /** Simulated time (s): `k·dt` after k equal steps (no rounding drift). */
   readonly time: number;
   readonly eventCount: number;
+  /** Joint values now (rad or m): a cheap read, without the whole state. */
+  q(): Float64Array;
+  /** Joint velocities now (rad/s or m/s). */
+  qdot(): Float64Array;
+  /** Clearance (m) between the arm and obstacle `id` now (negative: overlap; Infinity for a robot without segments). */
+  clearance(id: string): number;
+  /** The controller configuration in effect, the library's defaults filled in. */
+  controller(): ControllerInEffect;
   /** The state; with `since`, only the events from that index. */
   state(since?: number): WorldState;
   addObstacle(obstacle: Obstacle): void;
@@ -572,4 +647,107 @@ export class World {
   pickSkeleton(origin: Vec3, direction: Vec3): SkeletonPickResult | null;
   reset(): void;
   free(): void;
+  /** `free()`, for `using world = new World(…)`. */
+  [Symbol.dispose](): void;
+}
+
+// ---- the renderer (browsers only) ----
+
+/** Options of `Viewer.create`. */
+export interface ViewerOptions {
+  /** Default `"auto"`: WebGPU when the browser has an adapter, else WebGL2. */
+  backend?: 'auto' | 'webgpu' | 'webgl2' | undefined;
+  /** Default `"auto"`: the top view for a planar robot, else 3D. */
+  view?: ViewName | undefined;
+  /** 4× multisampling; by default on unless the adapter is a software rasteriser. */
+  antialias?: boolean | undefined;
+}
+
+export type ViewName = 'auto' | '3d' | 'top' | 'front' | 'side';
+
+/** What a viewer draws (missing fields keep their defaults). */
+export interface ViewerDisplay {
+  /** Default true. */
+  volumes?: boolean | undefined;
+  /** Default true. */
+  nodes?: boolean | undefined;
+  /** Default false. */
+  axes?: boolean | undefined;
+  /** Default true. */
+  grid?: boolean | undefined;
+  /** Metres of repulsion arrow per m/s (default 0.4). */
+  arrowScale?: number | undefined;
+}
+
+/** `Viewer.state()`: a snapshot for tests and tools. */
+export interface ViewerState {
+  backend: 'webgpu' | 'webgl2';
+  adapter: string;
+  surfaceFormat: string;
+  sampleCount: number;
+  triangles: number;
+  view: Exclude<ViewName, 'auto'>;
+  width: number;
+  height: number;
+  dof: number;
+  q: number[];
+  /** Skeleton nodes (m, world frame). */
+  nodes: Vec3[];
+  /** The same nodes in drawing-buffer pixels from the top-left corner (null: behind the eye). */
+  screenNodes: ([number, number] | null)[];
+}
+
+/** The canvas a viewer draws on: an `HTMLCanvasElement` (named structurally so Node programs need no DOM types). */
+export interface ViewerCanvas {
+  width: number;
+  height: number;
+  readonly clientWidth: number;
+  readonly clientHeight: number;
+}
+
+/**
+ * A canvas drawing a robot's skeleton, a world's obstacles, control points and
+ * repulsion through WebGPU or WebGL2. Browsers only: in Node, `Viewer.create`
+ * rejects and the constructor throws. Call `free()` when done.
+ */
+export class Viewer {
+  private constructor();
+  /** Starts a viewer on `canvas`; rejects naming the reason when neither WebGPU nor WebGL2 is available. */
+  static create(canvas: ViewerCanvas, options?: ViewerOptions): Promise<Viewer>;
+  /** `"webgpu"` or `"webgl2"`. */
+  readonly backend: 'webgpu' | 'webgl2';
+  /** Number of joints of the current robot (0 before `setRobot`). */
+  readonly dof: number;
+  /** The current view's name. */
+  readonly view: Exclude<ViewName, 'auto'>;
+  setRobot(robot: RobotInput): void;
+  /** Draws a `World.state()`-shaped object (other fields are ignored). */
+  drawState(state: Pick<WorldState, 'skeleton'> & Partial<WorldState>): void;
+  /** Draws a live world (nothing is copied through JS); call once per frame after stepping. */
+  drawWorld(world: World): void;
+  /** Highlights the obstacle with this id (null or undefined: none). */
+  setSelected(id: string | null | undefined): void;
+  /** Where a world point lands on the canvas (drawing-buffer pixels), or null behind the eye. */
+  projectPoint(point: Vec3): [number, number] | null;
+  /** Unit vector from the eye towards the target (world frame). */
+  viewDirection(): number[];
+  setJoints(q: JointVector): void;
+  setDisplay(display: ViewerDisplay): void;
+  setView(name: ViewName): void;
+  orbit(dx: number, dy: number): void;
+  pan(dx: number, dy: number): void;
+  /** Multiplies the camera distance by `factor` (> 1 zooms out). */
+  zoom(factor: number): void;
+  /** Frames the robot and the obstacles it can reach so they fill `fill` of the view (default 0.6), below the top `top` pixels. */
+  fit(fill?: number, top?: number): void;
+  /** Drawing-buffer size in pixels (CSS size × devicePixelRatio). */
+  resize(width: number, height: number): void;
+  /** Draws one frame when anything changed; call it from requestAnimationFrame. */
+  render(): void;
+  /** The picking ray through a canvas pixel (world frame, unit direction). */
+  rayAt(x: number, y: number): { origin: Vec3; direction: Vec3 };
+  state(): ViewerState;
+  free(): void;
+  /** `free()`, for `using viewer = await Viewer.create(…)`. */
+  [Symbol.dispose](): void;
 }

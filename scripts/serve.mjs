@@ -1,6 +1,7 @@
 // Static server for the playground: web/ at "/", the wasm package crate/pkg at
 // "/pkg/". No dependencies; used by `npm start` and by the browser tests.
-// With `--root dist` it serves the built site as it is (its own pkg/).
+// With `--root dist` it serves the built site as it is (its own pkg/); any
+// other folder (an absolute path) is served as it is too.
 //
 //   node scripts/serve.mjs [--port 8080] [--host 127.0.0.1] [--root web|dist]
 import http from 'node:http';
@@ -26,7 +27,7 @@ const TYPES = {
 export function serve({ port = 8080, host = '127.0.0.1', root = 'web' } = {}) {
   const mounts = [
     ...(root === 'web' ? [['/pkg/', path.join(repo, 'crate', 'pkg')]] : []),
-    ['/', path.join(repo, root)],
+    ['/', path.resolve(repo, root)],
   ];
   const server = http.createServer((req, res) => {
     const url = new URL(req.url ?? '/', 'http://localhost');

@@ -41,9 +41,9 @@ const layers = [
     if (buildWasm('node') !== 0) return 1;
     return run('node', ['--test', ...testFiles('tests/fuzz')]);
   }],
-  ['package', 'npm pack, install into a temp project, tsc, run in Node', () => {
+  ['package', 'npm pack; install into temp projects: tsc against the runtime, Node (ESM, CJS), Vite, webpack, esbuild, a plain page in Chromium', () => {
     if (!buildPackage()) return 1;
-    return run('node', ['--test', ...testFiles('tests/package')]);
+    return run('node', ['--test', '--test-concurrency=1', ...testFiles('tests/package')]);
   }],
   ['browser', 'the pages in headless Chromium (WebGPU and WebGL2)', () => {
     if (buildWasm('web') !== 0) return 1;
@@ -62,7 +62,7 @@ const only = (() => {
 process.env.CARGO_INCREMENTAL ??= '0';
 
 const t0 = performance.now();
-const needBrowser = !only || only.has('browser');
+const needBrowser = !only || only.has('browser') || only.has('package');
 if (!ensureTools({ browser: needBrowser })) {
   console.error('npm test: the toolchain is incomplete (see above); no layer was run.');
   process.exit(1);

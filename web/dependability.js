@@ -285,7 +285,7 @@ function riskMap(pg) {
         values.push(kind === 'clearance' ? pg.world.clearanceTo(placed) : pg.world.riskAt(placed, sensing).switchProbability);
       }
     }
-    const influence = pg.scenario.controller?.influenceDistance ?? 0.2;
+    const influence = pg.influence();
     d.riskValues = { kind, values, extent: { cx, cy, half }, z };
     drawRisk(d.risk, d.riskValues, influence, state);
     d.riskMessage.textContent = `${selected ? `“${selected.id}”` : 'a 5 cm sphere'} placed at ${RISK_GRID}×${RISK_GRID} points at z = ${z.toFixed(2)} m; ` +

@@ -244,9 +244,10 @@ export function refreshPanel(pg) {
   p.preset.value = typeof s.robot === 'object' && 'preset' in s.robot ? s.robot.preset : 'custom';
   p.convention.value = pg.robotSpec.convention ?? 'standard';
   fillRobotTables(pg);
-  const c = s.controller ?? {};
+  // The configuration in effect: the library's defaults where the scenario is silent.
+  const c = pg.world?.controller() ?? s.controller ?? {};
   p.mode.value = c.mode ?? 'velocity';
-  p.selection.value = c.selection ?? 'pairs';
+  p.selection.value = c.selection ?? 'perObstacle';
   for (const key of ['influenceDistance', 'repulsionGain', 'maxRepulsionSpeed', 'transitionTime']) p[key].value = c[key] ?? '';
   const noise = s.sensing?.default ?? {};
   p.bound.value = noise.bound ?? '';

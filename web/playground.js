@@ -17,19 +17,10 @@ import { PRESETS, applyDh, buildPanel, fillPresets, refreshObstacleList, refresh
 import { TimePlot } from './plots.js';
 import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, useLibrary } from './shapes.js';
 import { STYLE } from './style.js';
+import { loadWasm } from './wasm.js';
 
+export { loadWasm };
 export { PALETTE, PRESETS, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, useLibrary };
-
-let wasmModule = null;
-
-/** Loads and initialises the wasm package once per page (it sits in ./pkg/ beside this file). */
-export function loadWasm() {
-  wasmModule ??= import(new URL('./pkg/skeleton_avoidance.js', import.meta.url).href).then(async (m) => {
-    await m.default();
-    return m;
-  });
-  return wasmModule;
-}
 
 /**
  * Whether the browser's WebGPU adapter is a software rasteriser (SwiftShader):

@@ -5,7 +5,8 @@
 export const readoutMethods = {
   /** The influence distance in force (m): the scenario's or the library's default. */
   influence() {
-    return this.scenario.controller?.influenceDistance ?? 0.15;
+    // The value in effect: the library's default when the scenario omits it.
+    return this.world?.controller().influenceDistance ?? this.scenario.controller?.influenceDistance ?? 0.3;
   },
 
   record() {

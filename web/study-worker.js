@@ -5,14 +5,14 @@
 // { type: 'done', report } (merged by `monteCarloMerge`, rows kept) or
 // { type: 'error', message }. The page cancels a study by terminating the
 // worker: it never touches the page's world.
-import init, { monteCarloMerge, monteCarloRuns } from './pkg/skeleton_avoidance.js';
+import { loadWasm } from './wasm.js';
 
 let ready = null;
 
 self.onmessage = async ({ data }) => {
   try {
-    ready ??= init();
-    await ready;
+    ready ??= loadWasm();
+    const { monteCarloMerge, monteCarloRuns } = await ready;
     const { scenario, runs, seed, block } = data;
     const rows = [];
     for (let from = 0; from < runs; from += block) {

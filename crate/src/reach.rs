@@ -184,6 +184,7 @@ pub fn pr2_problems(urdf: &str, scenes_json: &str) -> Result<Vec<Problem>, Field
         tip: Some("r_wrist_roll_link".into()),
         base: Some("torso_lift_link".into()),
         srdf: None,
+        radii: None,
     };
     let mut out = Vec::new();
     for scene in &data.scenes {

@@ -41,6 +41,10 @@ const LOWER: &[(&str, &str)] = &[
         "kinematics/urdf/links.rs",
         include_str!("../src/kinematics/urdf/links.rs"),
     ),
+    (
+        "kinematics/urdf/report.rs",
+        include_str!("../src/kinematics/urdf/report.rs"),
+    ),
 ];
 
 /// Modules built on top of the lower layers.

@@ -77,6 +77,7 @@ fn fit(xml: &str, tip: &str, files: &BTreeMap<String, Vec<u8>>) -> UrdfFit {
         tip: Some(tip.to_owned()),
         base: None,
         srdf: None,
+        radii: None,
     };
     fit_urdf(xml, &options, files).unwrap()
 }

@@ -58,6 +58,7 @@ fn bodies_in_preset(
         tip: Some(tip.to_owned()),
         base: None,
         srdf: None,
+        radii: None,
     };
     let fit = fit_urdf(xml, &options, files).unwrap();
     assert!(fit.problems.is_empty(), "{:?}", fit.problems);

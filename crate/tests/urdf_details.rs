@@ -13,12 +13,12 @@ use skeleton_avoidance::kinematics::{JointType, RadiusSpec, Robot, presets};
 const PANDA: &str = include_str!("data/urdf/panda_collision.urdf");
 const IIWA: &str = include_str!("data/urdf/iiwa14_primitive_collision.urdf");
 const PR2: &str = include_str!("data/urdf/pr2.urdf");
+const UR5: &str = include_str!("data/urdf/ur5_robot.urdf");
 
 fn tip(t: &str) -> UrdfOptions {
     UrdfOptions {
         tip: Some(t.to_owned()),
-        base: None,
-        srdf: None,
+        ..UrdfOptions::default()
     }
 }
 
@@ -49,8 +49,8 @@ fn limits_and_radii_are_read() {
     assert_eq!(j1.radius, Some(RadiusSpec::Uniform(0.09)));
     let iiwa = robot_from_urdf(IIWA, &tip("iiwa_link_ee")).unwrap();
     assert_eq!(iiwa.joints[0].radius, Some(RadiusSpec::Uniform(0.101)));
-    // Links 6 and 7 have only meshes: the default radius.
-    assert_eq!(iiwa.joints[6].radius, None);
+    // Links 6 and 7 have only meshes: the default radius, written into the spec.
+    assert_eq!(iiwa.joints[6].radius, Some(RadiusSpec::Uniform(0.05)));
     let two = robot_from_urdf(
         &two_joints(r#"type="continuous"><axis xyz="0 0 1"/>"#),
         &UrdfOptions::default(),
@@ -110,7 +110,7 @@ fn bad_input_names_the_element() {
     let b = UrdfOptions {
         base: Some("panda_link5".into()),
         tip: Some("panda_link2".into()),
-        srdf: None,
+        ..UrdfOptions::default()
     };
     assert_eq!(
         error(PANDA, &b),
@@ -177,7 +177,6 @@ fn bad_input_names_the_element() {
 
 #[test]
 fn damaged_documents_give_errors_not_panics() {
-    const UR5: &str = include_str!("data/urdf/ur5_robot.urdf");
     let mut rng = skeleton_avoidance::rng::Rng::new(9);
     let bytes: Vec<char> = UR5.chars().collect();
     let junk = ['<', '>', '"', '/', '=', 'x', '0', '-', 'e', ' ', '.'];
@@ -198,6 +197,117 @@ fn damaged_documents_give_errors_not_panics() {
                 Robot::from_spec(&spec).unwrap();
             }
             Err(e) => assert!(!e.field.is_empty(), "{e}"),
+        }
+    }
+}
+
+#[test]
+fn the_import_reports_what_it_defaulted_and_left_out() {
+    use skeleton_avoidance::kinematics::urdf::{import_urdf, report::RadiusFrom};
+    let two = two_joints(r#"type="continuous"><axis xyz="0 0 1"/>"#);
+    let with_mesh = two.replace(
+        "<link name=\"c\"><collision><geometry><sphere radius=\"0.07\"/></geometry></collision></link>",
+        "<link name=\"c\"><collision><geometry><mesh filename=\"c.stl\"/></geometry></collision></link>",
+    );
+    let import = import_urdf(&with_mesh, &UrdfOptions::default()).unwrap();
+    let r = &import.report;
+    assert_eq!(r.joints.len(), 2);
+    assert_eq!(r.joints[0].links, ["b"]);
+    assert_eq!(r.joints[0].radius_from, RadiusFrom::Collision);
+    assert_eq!(r.joints[1].radius_from, RadiusFrom::Default);
+    assert_eq!(r.joints[1].radius, 0.05);
+    assert_eq!(r.links_without_primitive, ["c"]);
+    // j1 gives velocity and effort; j2 (continuous, no <limit>) nothing.
+    assert_eq!(r.joints[0].defaulted, ["maxAcceleration", "maxJerk"]);
+    assert_eq!(
+        r.joints[1].defaulted,
+        ["maxVelocity", "maxAcceleration", "maxJerk", "maxTorque"]
+    );
+    assert!(r.joints[0].position_limits && !r.joints[1].position_limits);
+    // The values used are in the spec.
+    let j2 = &import.robot.joints[1];
+    assert_eq!(
+        (
+            j2.max_velocity,
+            j2.max_acceleration,
+            j2.max_jerk,
+            j2.max_torque
+        ),
+        (Some(2.0), Some(10.0), Some(5000.0), Some(100.0))
+    );
+    assert_eq!(j2.radius, Some(RadiusSpec::Uniform(0.05)));
+    assert!(r.outside_chain.is_empty() && r.start_contacts.is_empty());
+
+    // A radius per link overrides the geometry; a bad override changes nothing.
+    let mut options = UrdfOptions {
+        radii: Some([("c".to_owned(), 0.02)].into_iter().collect()),
+        ..UrdfOptions::default()
+    };
+    let over = import_urdf(&with_mesh, &options).unwrap();
+    assert_eq!(over.report.joints[1].radius_from, RadiusFrom::Override);
+    assert_eq!(over.robot.joints[1].radius, Some(RadiusSpec::Uniform(0.02)));
+    options.radii = Some([("nowhere".to_owned(), 0.02)].into_iter().collect());
+    assert_eq!(
+        import_urdf(&with_mesh, &options).unwrap_err().to_string(),
+        "radii.nowhere: no link named \"nowhere\""
+    );
+    options.radii = Some([("a".to_owned(), 0.02)].into_iter().collect());
+    assert_eq!(
+        import_urdf(&with_mesh, &options).unwrap_err().to_string(),
+        "radii.a: this link is not moved by the imported chain"
+    );
+    options.radii = Some([("b".to_owned(), -1.0)].into_iter().collect());
+    assert!(
+        import_urdf(&with_mesh, &options)
+            .unwrap_err()
+            .to_string()
+            .starts_with("radii.b: must be a number in (0, 1000] m")
+    );
+}
+
+#[test]
+fn an_import_starting_in_self_collision_names_the_links() {
+    use skeleton_avoidance::world::import_urdf;
+    // The iiwa with a 1 m collision cylinder on its last link (a needle
+    // modelled carelessly): at q = 0 that link overlaps the ones below it.
+    let fat = IIWA.replacen(
+        "<link name=\"iiwa_link_7\">",
+        "<link name=\"iiwa_link_7\"><collision><geometry><cylinder radius=\"1\" length=\"0.1\"/></geometry></collision>",
+        1,
+    );
+    assert_ne!(fat, IIWA);
+    let import = import_urdf(&fat, &tip("iiwa_link_ee")).unwrap();
+    let contacts = &import.report.start_contacts;
+    assert!(!contacts.is_empty(), "{:?}", import.report);
+    assert!(
+        contacts.iter().all(|c| c.links[1] == "iiwa_link_7"
+            && c.joints[1] == "iiwa_joint_7"
+            && c.distance < 0.0),
+        "{contacts:?}"
+    );
+    assert!(contacts.iter().any(|c| c.links[0] == "iiwa_link_1"));
+    // The file as published starts free.
+    let clean = import_urdf(IIWA, &tip("iiwa_link_ee")).unwrap();
+    assert!(
+        clean.report.start_contacts.is_empty(),
+        "{:?}",
+        clean.report.start_contacts
+    );
+}
+
+#[test]
+fn dh_values_carry_no_rounding_dust() {
+    for (xml, t) in [
+        (PANDA, "panda_link8"),
+        (IIWA, "iiwa_link_ee"),
+        (UR5, "ee_link"),
+    ] {
+        let spec = robot_from_urdf(xml, &tip(t)).unwrap();
+        for j in &spec.joints {
+            for v in [j.a, j.alpha, j.d, j.theta] {
+                assert!(v == 0.0 || v.abs() > 1e-14, "{t}: {v:e}");
+                assert!(!(v == 0.0 && v.is_sign_negative()), "{t}: -0");
+            }
         }
     }
 }

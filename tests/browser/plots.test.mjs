@@ -70,7 +70,10 @@ for (const backend of ['webgpu', 'webgl2']) {
       const errors = collectErrors(page);
       await page.goto(`${baseUrl}?scenario=lwr4-elbow&backend=${backend}`);
       await page.evaluate(() => window.playground.ready);
-      await page.waitForTimeout(2500);
+      // Wait for the state (50 plotted samples and 2 s simulated), not for wall time:
+      // on a busy machine fewer frames are drawn in a given stretch of time.
+      await page.waitForFunction(() => window.playground.series().clearance.min.v.length > 50
+        && window.playground.state().world.t >= 2, null, { timeout: 120_000 });
       await page.locator('#run').click(); // pause, so that the pixels hold still
       await frames(page, 3);
       const plots = await page.evaluate(() => {
@@ -162,3 +165,32 @@ function differing(a, b) {
   }
   return n;
 }
+
+test('a scenario without a controller is shown with the library\'s defaults (influence 0.3 m, perObstacle)', async () => {
+  const browser = await launch({ webgpu: false });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await page.goto(`${baseUrl}?scenario=planar-transition&paused`);
+    await page.evaluate(() => window.playground.ready);
+    const shown = await page.evaluate(() => {
+      const app = window.playground.app;
+      const failure = app.loadScenario({
+        robot: { preset: 'planar3' }, q0: [0.3, -0.5, 0.4],
+        obstacles: [{ id: 'ball', shape: { type: 'sphere', center: [0.5, 0.4, 0], radius: 0.05 } }], dt: 0.001, duration: 5,
+      });
+      const root = document.getElementById('playground').shadowRoot;
+      return {
+        failure,
+        influence: app.plots.clearance.refs.find((r) => r.label === 'influence distance')?.v,
+        selection: root.getElementById('selection').value,
+        field: root.getElementById('influence').value,
+      };
+    });
+    assert.deepEqual(shown, { failure: shown.failure, influence: 0.3, selection: 'perObstacle', field: '0.3' });
+    assert.ok(!shown.failure, shown.failure);
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});

@@ -147,7 +147,8 @@ test('docs page: the wheel scrolls the page over a widget until it is clicked; w
     const y0 = await page.evaluate(() => scrollY);
     await page.mouse.move(box.x + box.width / 2, box.y + box.height / 3);
     for (let k = 0; k < 10; k++) await page.mouse.wheel(0, 100);
-    await page.waitForTimeout(300);
+    // The page scrolls (smoothly, at the machine's pace): wait for the scroll, not for time.
+    await page.waitForFunction((y0) => scrollY - y0 > 300, y0, { timeout: 20_000 }).catch(() => {});
     const y1 = await page.evaluate(() => scrollY);
     assert.ok(y1 - y0 > 300, `the page scrolled ${y1 - y0} px`);
     // Scroll the last widget into view: it starts.
@@ -192,7 +193,7 @@ test('touch: a vertical swipe over a widget scrolls the page, a pinch zooms the 
     await touch('touchStart', [[x, y]]);
     for (let k = 1; k <= 8; k++) await touch('touchMove', [[x, y - 20 * k]]);
     await touch('touchEnd', []);
-    await page.waitForTimeout(500);
+    await page.waitForFunction((y0) => scrollY - y0 > 100, y0, { timeout: 20_000 }).catch(() => {});
     const y1 = await page.evaluate(() => scrollY);
     assert.ok(y1 - y0 > 100, `the swipe scrolled the page ${y1 - y0} px`);
     // Pinch out in the middle of the widget: it zooms in.
@@ -235,7 +236,7 @@ test('layout at 1280×800, 800×600 and 390×844: nothing overlaps, the panel be
       if (width < 900) {
         assert.equal(await page.locator('#panel').isVisible(), false, 'the panel is a closed drawer');
         await page.locator('#panel-toggle').click();
-        await page.waitForTimeout(300);
+        await page.locator('#panel').waitFor({ state: 'visible', timeout: 20_000 }).catch(() => {});
         assert.ok(await page.locator('#panel').isVisible(), 'the drawer opens');
         await page.screenshot({ path: path.join(artifacts, `layout-${width}x${height}-drawer.png`) });
         await page.locator('#panel-toggle').click();

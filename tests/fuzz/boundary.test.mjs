@@ -84,6 +84,7 @@ const FUNCTIONS = {
   simulate: (r) => [arg(r, r.pick(SCENARIOS))],
   robotFromUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, { tip: 'b' })],
   fitUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? arg(r, { tip: 'b', meshes: {} }) : { meshes: { 'm.stl': new Uint8Array(r.int(200)).map(() => r.int(256)) } }],
+  importUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, r.chance(0.5) ? { tip: 'b' } : { radii: { b: 0.03 } })],
   benchControlStep: (r) => [arg(r, r.int(3)), r.chance(0.5) ? undefined : arg(r, r.int(3))],
   benchKinematicsStep: (r) => [arg(r, 'planar3'), arg(r, r.int(3))],
   monteCarlo: (r) => [arg(r, r.pick(SCENARIOS)), arg(r, { runs: 1 + r.int(2), seed: r.int(5), rows: r.chance(0.5) })],
@@ -105,6 +106,10 @@ const METHODS = [
   ['pick', (r) => [arg(r, [0, 0, 2]), arg(r, [0, 0, -1])]],
   ['pickSkeleton', (r) => [arg(r, [0.3, 0, 2]), arg(r, [0, 0, -1])]],
   ['reset', () => []],
+  ['q', () => []],
+  ['qdot', () => []],
+  ['controller', () => []],
+  ['clearance', (r) => [arg(r, r.pick(['o0', 'ball', 'person']))]],
 ];
 
 /** Where a non-finite number hides in `v`, or null. */

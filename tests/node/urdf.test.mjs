@@ -49,3 +49,66 @@ test('robotFromUrdf errors name the element', () => {
   const bad = { ...sa.robotFromUrdf(urdf('ur5_robot.urdf')), jointNames: ['a'] };
   assert.throws(() => sa.forwardKinematics(bad, [0, 0, 0, 0, 0, 0]), { message: 'jointNames: expected 6 names (one per joint), got 1' });
 });
+
+test('importUrdf reports what it read, defaulted and left out; the spec carries the values used', () => {
+  const xml = urdf('iiwa14_primitive_collision.urdf');
+  const { robot, report } = sa.importUrdf(xml, { tip: 'iiwa_link_ee' });
+  assert.deepEqual(robot, sa.robotFromUrdf(xml, { tip: 'iiwa_link_ee' }));
+  assert.equal(report.joints.length, 7);
+  assert.deepEqual(report.joints.map((j) => j.name), robot.jointNames);
+  for (const [k, j] of robot.joints.entries()) {
+    // Every value the library uses is in the spec, none left undefined.
+    for (const field of ['radius', 'maxVelocity', 'maxAcceleration', 'maxJerk', 'maxTorque']) {
+      assert.equal(typeof j[field], 'number', `joints[${k}].${field}`);
+    }
+    assert.equal(j.radius, report.joints[k].radius);
+  }
+  // Links 6 and 7 carry only meshes: the default radius, and the report says so.
+  assert.deepEqual(report.joints.slice(5).map((j) => j.radiusFrom), ['default', 'default']);
+  assert.ok(report.linksWithoutPrimitive.includes('iiwa_link_7'));
+  assert.deepEqual(report.joints[0].defaulted, ['maxJerk'], 'the file gives velocity, effort and acceleration');
+  assert.deepEqual(report.startContacts, []);
+  // A radius per link, by URDF name.
+  const thin = sa.importUrdf(xml, { tip: 'iiwa_link_ee', radii: { iiwa_link_7: 0.04 } });
+  assert.equal(thin.robot.joints[6].radius, 0.04);
+  assert.equal(thin.report.joints[6].radiusFrom, 'override');
+  assert.throws(() => sa.importUrdf(xml, { radii: { iiwa_link_99: 0.04 } }), /^Error: radii\.iiwa_link_99: no link named "iiwa_link_99"$/);
+  // DH values without rounding dust.
+  for (const j of robot.joints) for (const v of [j.a, j.alpha, j.d, j.theta]) assert.ok(v === 0 ? !Object.is(v, -0) : Math.abs(v) > 1e-14, `${v}`);
+});
+
+test('an import that starts in self-collision names the links, by their URDF names', () => {
+  const xml = urdf('iiwa14_primitive_collision.urdf').replace(
+    '<link name="iiwa_link_7">',
+    '<link name="iiwa_link_7"><collision><geometry><cylinder radius="1" length="0.1"/></geometry></collision>',
+  );
+  const { report } = sa.importUrdf(xml, { tip: 'iiwa_link_ee' });
+  assert.ok(report.startContacts.length > 0);
+  for (const c of report.startContacts) {
+    assert.equal(c.links[1], 'iiwa_link_7');
+    assert.equal(c.joints[1], 'iiwa_joint_7');
+    assert.ok(c.distance < 0);
+  }
+});
+
+test('joint vectors by name wherever q and q0 are; a wrong name is an Error naming it', () => {
+  const robot = sa.robotFromUrdf(urdf('ur5_robot.urdf'), { tip: 'ee_link' });
+  const q = [0.1, -0.5, 0.7, 0.2, -0.3, 0.4];
+  const named = Object.fromEntries(robot.jointNames.map((n, k) => [n, q[k]]));
+  assert.deepEqual(sa.forwardKinematics(robot, named), sa.forwardKinematics(robot, q));
+  assert.deepEqual(sa.skeleton(robot, named), sa.skeleton(robot, q));
+  const point = { link: 3, d: 0, a: 0.2 };
+  assert.deepEqual(sa.controlPoint(robot, named, point), sa.controlPoint(robot, q, point));
+  const scenario = { robot, obstacles: [], dt: 0.01, duration: 0.05 };
+  assert.deepEqual(sa.simulate({ ...scenario, q0: named }), sa.simulate({ ...scenario, q0: q }));
+  const w = new sa.World({ ...scenario, q0: named });
+  assert.deepEqual([...w.q()], q);
+  w.free();
+  assert.throws(() => sa.skeleton(robot, { ...named, elbow: 1 }), /^Error: q\.elbow: no joint named "elbow" \(joints: shoulder_pan_joint, /);
+  const { wrist_3_joint: _, ...short } = named;
+  assert.throws(() => sa.forwardKinematics(robot, short), /^Error: q: missing joint "wrist_3_joint"$/);
+  assert.throws(() => sa.simulate({ ...scenario, q0: { ...named, elbow: 1 } }), /^Error: q0\.elbow: no joint named "elbow"/);
+  assert.throws(() => sa.simulate({ ...scenario, q0: { ...named, elbow_joint: 'x' } }), /^Error: q0\.elbow_joint: not a finite number$/);
+  // A preset has no joint names: an array is needed.
+  assert.throws(() => sa.skeleton('planar3', { a: 1 }), /^Error: q: joint values by name need a robot with jointNames/);
+});

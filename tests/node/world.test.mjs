@@ -25,7 +25,11 @@ test('simulate returns samples and events in the documented shape', () => {
   const s = sa.exampleScenario('planar-transition');
   s.duration = 0.7;
   const trace = sa.simulate(s);
-  assert.equal(trace.samples.length, 700);
+  // Every step from t = 0, and the state at t = duration.
+  assert.equal(trace.samples.length, 701);
+  assert.equal(trace.samples.at(-1).t, 700 * 0.001, 'the last sample is at t = duration (as steps·dt)');
+  trace.samples.forEach((x, k) => assert.equal(x.t, k * 0.001, `sample ${k}`));
+  assert.equal(trace.samples[0].qdot.length, 3);
   const first = trace.samples[0];
   assert.equal(first.t, 0);
   assert.equal(first.q.length, 3);
@@ -266,4 +270,69 @@ test('riskAt gives the clearance and switch probability of a figure without addi
   assert.throws(() => world.riskAt({ type: 'point' }, {}), /shape/);
   assert.equal(JSON.stringify(world.state()), before);
   world.free();
+});
+
+test('cheap readouts: q(), qdot(), clearance(id), controller() agree with state() and the defaults', () => {
+  const s = sa.exampleScenario('human-panda');
+  const w = new sa.World(s);
+  try {
+    w.advance(0.001, 200);
+    const st = w.state();
+    assert.ok(w.q() instanceof Float64Array && w.qdot() instanceof Float64Array);
+    assert.deepEqual([...w.q()], st.q);
+    assert.deepEqual([...w.qdot()], st.qdot);
+    assert.ok(st.qdot.some((v) => v !== 0), 'the arm moves');
+    // The clearance to one obstacle is the clearance to its figure where it is now.
+    for (const o of st.obstacles) {
+      assert.equal(w.clearance(o.id), w.clearanceTo(o.shape), o.id);
+    }
+    assert.ok(Math.min(...st.obstacles.map((o) => w.clearance(o.id))) >= st.minClearance - 1e-12);
+    assert.throws(() => w.clearance('nobody'), /^Error: id: no obstacle "nobody"$/);
+    assert.throws(() => w.clearance(3), /id: expected a string/);
+    // The configuration in effect: the scenario's values, the library's defaults elsewhere.
+    const c = w.controller();
+    assert.equal(c.influenceDistance, s.controller.influenceDistance);
+    const bare = new sa.World({ robot: { preset: 'planar3' }, obstacles: [], dt: 0.001, duration: 1 });
+    assert.equal(bare.controller().influenceDistance, 0.3);
+    assert.equal(bare.controller().selection, 'perObstacle');
+    assert.equal(bare.controller().mode, 'velocity');
+    bare.free();
+  } finally {
+    w.free();
+  }
+  assert.throws(() => w.q(), /this World has been freed/);
+});
+
+test('[Symbol.dispose] frees a World once: disposing a freed World does nothing', () => {
+  const w = new sa.World({ robot: { preset: 'planar3' }, obstacles: [], dt: 0.001, duration: 1 });
+  w.free();
+  w[Symbol.dispose]();
+  assert.throws(() => w.step(0.001), /this World has been freed/);
+  const v = new sa.World({ robot: { preset: 'planar3' }, obstacles: [], dt: 0.001, duration: 1 });
+  v[Symbol.dispose]();
+  v[Symbol.dispose]();
+  assert.throws(() => v.time, /this World has been freed/);
+});
+
+test('trace samples carry the clearance to each obstacle, apart from self pairs, as World.clearance reads it', () => {
+  const s = sa.exampleScenario('human-panda');
+  s.duration = 0.3;
+  const trace = sa.simulate(s);
+  const ids = s.obstacles.map((o) => o.id).sort();
+  const w = new sa.World(s);
+  try {
+    for (const [k, sample] of trace.samples.entries()) {
+      assert.deepEqual(Object.keys(sample.clearances).sort(), ids);
+      if (k % 100 === 0) {
+        for (const id of ids) assert.equal(sample.clearances[id], w.clearance(id), `t = ${sample.t}, ${id}`);
+      }
+      if (k < trace.samples.length - 1) w.step(s.dt);
+    }
+  } finally {
+    w.free();
+  }
+  // The person's clearance is its own; minClearance also counts the floor and self pairs.
+  const person = Math.min(...trace.samples.map((x) => x.clearances.person));
+  const overall = Math.min(...trace.samples.map((x) => x.minClearance ?? Infinity));
+  assert.ok(person > overall, `person ${person}, overall ${overall}`);
 });

@@ -78,6 +78,22 @@ console.log(JSON.stringify({
 }));
 `;
 
+// CommonJS: \`require\` through the package's index.cjs and index.d.cts.
+const CJS_CTS = `
+import sa = require('skeleton-avoidance');
+const trace: sa.Trace = sa.simulate({ robot: { preset: 'planar3' }, obstacles: [], dt: 0.01, duration: 0.05 });
+const world = new sa.World({ robot: { preset: 'planar3' }, obstacles: [], dt: 0.01, duration: 1 });
+world.advance(0.01, 3);
+let viewer = 'constructed';
+try {
+  new (sa.Viewer as unknown as new () => unknown)();
+} catch (e) {
+  viewer = (e as Error).message;
+}
+console.log(JSON.stringify({ samples: trace.samples.length, t: world.time, keys: Object.keys(sa).sort(), viewer }));
+world.free();
+`;
+
 test('the packed package installs, type-checks with tsc and runs in Node', () => {
   const tarballs = fs.existsSync(npmDir) ? fs.readdirSync(npmDir).filter((f) => f.endsWith('.tgz')) : [];
   assert.equal(tarballs.length, 1, 'run `node scripts/package.mjs` first (the package layer of npm test does)');
@@ -87,12 +103,13 @@ test('the packed package installs, type-checks with tsc and runs in Node', () =>
     const install = sh('npm', ['install', '--no-audit', '--no-fund', '--offline', path.join(npmDir, tarballs[0])], dir);
     assert.equal(install.status, 0, install.out);
     fs.writeFileSync(path.join(dir, 'main.ts'), MAIN_TS);
+    fs.writeFileSync(path.join(dir, 'cjs.cts'), CJS_CTS);
     fs.writeFileSync(path.join(dir, 'tsconfig.json'), JSON.stringify({
       compilerOptions: {
         target: 'es2022', module: 'nodenext', moduleResolution: 'nodenext', strict: true,
         noEmitOnError: true, skipLibCheck: false, types: [], outDir: 'out',
       },
-      files: ['main.ts'],
+      files: ['main.ts', 'cjs.cts'],
     }));
     const typed = sh(tsc, ['-p', '.'], dir);
     assert.equal(typed.status, 0, `tsc:\n${typed.out}`);
@@ -108,6 +125,16 @@ test('the packed package installs, type-checks with tsc and runs in Node', () =>
     assert.equal(r.radius, 0.06);
     assert.equal(r.studyRuns, 2);
     assert.equal(r.sameStudy, true, 'monteCarloRuns + monteCarloMerge = monteCarlo');
+    // require(): the same API from index.cjs; Viewer is a stand-in that rejects in Node.
+    const cjs = sh(process.execPath, ['out/cjs.cjs'], dir);
+    assert.equal(cjs.status, 0, cjs.out);
+    const c = JSON.parse(cjs.out.trim().split('\n').pop());
+    assert.ok(c.samples > 0);
+    assert.ok(Math.abs(c.t - 0.03) < 1e-12, `World.time ${c.t}`);
+    const esmKeys = sh(process.execPath, ['--input-type=module', '-e', "import * as sa from 'skeleton-avoidance'; console.log(JSON.stringify(Object.keys(sa).sort()))"], dir);
+    assert.deepEqual(c.keys, JSON.parse(esmKeys.out.trim()), 'require and import give the same names');
+    assert.ok(c.keys.includes('Viewer') && c.keys.includes('World'));
+    assert.match(c.viewer, /browser/, 'Viewer in Node says it needs a browser');
     // Benchmark helpers are not part of the package's API.
     const entry = fs.readFileSync(path.join(dir, 'node_modules', 'skeleton-avoidance', 'index.node.js'), 'utf8');
     assert.ok(!/bench/i.test(entry));

@@ -181,6 +181,7 @@ pub fn fit_urdf(
                 tip: Some(tip),
                 base: options.base.clone(),
                 srdf: options.srdf.clone(),
+                radii: options.radii.clone(),
             };
             let Ok((s2, l2)) = robot_with_links(xml, &o) else {
                 continue;

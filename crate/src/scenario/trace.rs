@@ -35,9 +35,18 @@ pub struct Sample {
     pub t: f64,
     /// Joint values.
     pub q: Vec<f64>,
+    /// Joint velocities at `t` (rad/s or m/s).
+    #[serde(default)]
+    pub qdot: Vec<f64>,
     /// Smallest clearance between the arm and any obstacle (or between
     /// non-adjacent links) within reach (m; `null` when none is).
     pub min_clearance: Option<f64>,
+    /// Clearance (m) between the arm and each obstacle at `t` (true pose),
+    /// by id, within reach or not; self pairs are not in it (negative:
+    /// overlap). "How close did the arm come to the person" is the minimum
+    /// of `clearances["person"]` over the samples.
+    #[serde(default)]
+    pub clearances: std::collections::BTreeMap<String, f64>,
     /// Active control points.
     pub control_points: Vec<TracePoint>,
     /// Standard deviation of each joint's command from the sensing errors
@@ -49,7 +58,8 @@ pub struct Sample {
 /// What [`crate::world::simulate`] returns.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Trace {
-    /// Samples, every `sampleEvery` steps, from `t = 0`.
+    /// Samples, every `sampleEvery` steps from `t = 0`, and the last at
+    /// `t = duration`.
     pub samples: Vec<Sample>,
     /// Events in time order.
     pub events: Vec<Event>,

@@ -197,6 +197,11 @@ export function guardClass(instance, name, argNames) {
       Object.defineProperty(proto, key, { ...desc, value: guarded });
     }
   }
+  // `using` calls [Symbol.dispose]: the guarded free, so that disposing a
+  // freed object does nothing (wasm-bindgen's own alias is the raw free).
+  if (typeof Symbol.dispose === 'symbol') {
+    Object.defineProperty(proto, Symbol.dispose, { value: proto.free, writable: true, configurable: true });
+  }
   Object.defineProperty(proto, '__guarded', { value: true });
 }
 

@@ -165,23 +165,35 @@ pub fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
 
 /// A vector of finite numbers from a JS `Array` of numbers or a typed array.
 pub fn f64_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
-    let expected = || {
-        js_error(&FieldError::new(
-            field,
-            "expected an array or a Float64Array of numbers",
-        ))
-    };
+    numbers(field, read_vector(field, value)?)
+}
+
+/// `value` read once as JSON, refused unless it is an object (arrays and
+/// typed arrays are objects; their JSON is an array).
+fn read_vector(field: &str, value: &JsValue) -> Result<serde_json::Value, JsError> {
     if !value.is_object() {
-        return Err(expected());
+        return Err(expected_numbers(field));
     }
-    let serde_json::Value::Array(items) = read_json(field, value)? else {
-        return Err(expected());
+    read_json(field, value)
+}
+
+fn expected_numbers(field: &str) -> JsError {
+    js_error(&FieldError::new(
+        field,
+        "expected an array or a Float64Array of numbers",
+    ))
+}
+
+/// The finite numbers of a JSON array.
+fn numbers(field: &str, json: serde_json::Value) -> Result<Vec<f64>, JsError> {
+    let serde_json::Value::Array(items) = json else {
+        return Err(expected_numbers(field));
     };
     items
         .iter()
         .enumerate()
         .map(|(k, v)| match v {
-            serde_json::Value::Number(n) => n.as_f64().ok_or_else(expected),
+            serde_json::Value::Number(n) => n.as_f64().ok_or_else(|| expected_numbers(field)),
             serde_json::Value::String(s) if s.starts_with(NON_FINITE_TAG) => Err(js_error(
                 &FieldError::new(format!("{field}[{k}]"), "not a finite number"),
             )),
@@ -193,9 +205,8 @@ pub fn f64_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
         .collect()
 }
 
-/// [`f64_vec`] with every element within ±1e6 (joint values, rates).
-pub fn joint_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
-    let v = f64_vec(field, value)?;
+/// Every element within ±1e6 (joint values, rates).
+fn bounded_joints(field: &str, v: Vec<f64>) -> Result<Vec<f64>, JsError> {
     for (k, x) in v.iter().enumerate() {
         crate::error::bounded(
             &format!("{field}[{k}]"),
@@ -207,9 +218,10 @@ pub fn joint_vec(field: &str, value: &JsValue) -> Result<Vec<f64>, JsError> {
     Ok(v)
 }
 
-/// A robot from a JS value: a robot spec object, `{ preset: name }`, or a
-/// preset name.
-pub fn robot(value: JsValue) -> Result<Robot, JsError> {
+/// A robot from a JS value (a robot spec object, `{ preset: name }`, or a
+/// preset name) and the spec's `jointNames` (for joint vectors given by
+/// name).
+pub fn robot_named(value: JsValue) -> Result<(Robot, Option<Vec<String>>), JsError> {
     let spec: RobotSpec = if let Some(name) = value.as_string() {
         presets::preset(&name).map_err(|e| js_error(&e.within("robot")))?
     } else if value.is_object() {
@@ -250,7 +262,68 @@ pub fn robot(value: JsValue) -> Result<Robot, JsError> {
             ),
         )));
     };
-    Robot::from_spec(&spec).map_err(|e| js_error(&e))
+    let robot = Robot::from_spec(&spec).map_err(|e| js_error(&e))?;
+    Ok((robot, spec.joint_names))
+}
+
+/// Joint values given by name, `{ name: value, … }`, in the order of
+/// `names` (a robot's `jointNames`); every joint must be named once.
+///
+/// # Errors
+/// `field: joint values by name need a robot with jointNames`,
+/// `field.x: no joint named "x" (joints: …)`, `field: missing joint "y"`,
+/// `field.x: not a finite number`.
+pub fn named_joints(
+    field: &str,
+    map: &serde_json::Map<String, serde_json::Value>,
+    names: Option<&[String]>,
+) -> Result<Vec<f64>, FieldError> {
+    let Some(names) = names else {
+        return Err(FieldError::new(
+            field,
+            "joint values by name need a robot with jointNames (a URDF import, or a spec that names its joints); give an array otherwise",
+        ));
+    };
+    for key in map.keys() {
+        if !names.iter().any(|n| n == key) {
+            return Err(FieldError::new(
+                format!("{field}.{key}"),
+                format!("no joint named \"{key}\" (joints: {})", names.join(", ")),
+            ));
+        }
+    }
+    names
+        .iter()
+        .map(|n| {
+            let v = map
+                .get(n)
+                .ok_or_else(|| FieldError::new(field, format!("missing joint \"{n}\"")))?;
+            let x = v
+                .as_f64()
+                .ok_or_else(|| FieldError::new(format!("{field}.{n}"), "not a finite number"))?;
+            crate::error::bounded(&format!("{field}.{n}"), x, crate::kinematics::MAX_MAGNITUDE)?;
+            Ok(x)
+        })
+        .collect()
+}
+
+/// A joint vector as an array or a `Float64Array` of numbers within ±1e6, or by
+/// name (`{ panda_joint1: 0.1, … }`, [`named_joints`]).
+///
+/// # Errors
+/// As those two.
+pub fn joint_vec_named(
+    field: &str,
+    value: &JsValue,
+    names: Option<&[String]>,
+) -> Result<Vec<f64>, JsError> {
+    // Read once: the JSON says whether it is a list or names.
+    match read_vector(field, value)? {
+        serde_json::Value::Object(map) => {
+            named_joints(field, &map, names).map_err(|e| js_error(&e))
+        }
+        json => bounded_joints(field, numbers(field, json)?),
+    }
 }
 
 /// Refuses joints given as positional arrays (`[a, alpha, d, theta]`), which

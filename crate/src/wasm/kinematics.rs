@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
 
 use super::boundary::{count_arg, string_arg};
-use super::convert::{joint_vec, js_error, object_from_js, robot, to_js};
+use super::convert::{joint_vec_named, js_error, object_from_js, robot_named, to_js};
 use crate::control_point::DhPoint;
 use crate::kinematics::{Robot, presets};
 use crate::skeleton::{Skeleton, SpinePart};
@@ -30,8 +30,12 @@ fn rows(cols: &[DVec3]) -> Rows {
         .collect()
 }
 
-fn frames_of(robot: &Robot, q: &JsValue) -> Result<crate::kinematics::Frames, JsError> {
-    let q = joint_vec("q", q)?;
+fn frames_of(
+    robot: &Robot,
+    names: Option<&[String]>,
+    q: &JsValue,
+) -> Result<crate::kinematics::Frames, JsError> {
+    let q = joint_vec_named("q", q, names)?;
     robot.forward(&q).map_err(|e| js_error(&e))
 }
 
@@ -64,8 +68,8 @@ struct FkOut {
 /// end effector per chain.
 #[wasm_bindgen(js_name = forwardKinematics)]
 pub fn forward_kinematics(robot_spec: JsValue, q: JsValue) -> Result<JsValue, JsError> {
-    let r = robot(robot_spec)?;
-    let f = frames_of(&r, &q)?;
+    let (r, names) = robot_named(robot_spec)?;
+    let f = frames_of(&r, names.as_deref(), &q)?;
     to_js(&FkOut {
         origins: f
             .transforms
@@ -100,8 +104,8 @@ struct SkeletonOut {
 /// frameNodes }`.
 #[wasm_bindgen]
 pub fn skeleton(robot_spec: JsValue, q: JsValue) -> Result<JsValue, JsError> {
-    let r = robot(robot_spec)?;
-    let f = frames_of(&r, &q)?;
+    let (r, names) = robot_named(robot_spec)?;
+    let f = frames_of(&r, names.as_deref(), &q)?;
     let s = Skeleton::build(&r, &f);
     to_js(&SkeletonOut {
         nodes: s.nodes.iter().map(|p| p.to_array()).collect(),
@@ -170,8 +174,8 @@ pub fn control_point(
     point: JsValue,
     rates: JsValue,
 ) -> Result<JsValue, JsError> {
-    let r = robot(robot_spec)?;
-    let qv = joint_vec("q", &q)?;
+    let (r, names) = robot_named(robot_spec)?;
+    let qv = joint_vec_named("q", &q, names.as_deref())?;
     let p: PointIn = object_from_js("point", point)?;
     let p = DhPoint {
         link: p.link,
@@ -236,8 +240,8 @@ struct DhOut {
 /// skeleton segment `segment`.
 #[wasm_bindgen(js_name = skeletonPoint)]
 pub fn skeleton_point(robot_spec: JsValue, q: JsValue, at: JsValue) -> Result<JsValue, JsError> {
-    let r = robot(robot_spec)?;
-    let f = frames_of(&r, &q)?;
+    let (r, names) = robot_named(robot_spec)?;
+    let f = frames_of(&r, names.as_deref(), &q)?;
     let at: SkeletonPointIn = object_from_js("at", at)?;
     let s = Skeleton::build(&r, &f);
     let p = DhPoint::from_skeleton(&r, &f, &s, at.segment, at.t)

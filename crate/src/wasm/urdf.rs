@@ -1,5 +1,6 @@
-//! JS bindings of the URDF import: `robotFromUrdf(xml, { tip?, base?,
-//! meshes? })` and `fitUrdf(xml, { tip?, base?, meshes })`.
+//! JS bindings of the URDF import: `robotFromUrdf(xml, options?)`,
+//! `importUrdf(xml, options?)` and `fitUrdf(xml, options)`, with
+//! `options = { tip?, base?, srdf?, radii?, meshes? }`.
 
 use std::collections::BTreeMap;
 
@@ -94,4 +95,15 @@ pub(super) fn fit_from_js(xml: JsValue, options: JsValue) -> Result<UrdfFit, JsE
     let xml = xml_of(xml)?;
     let (options, files) = split_options(options)?;
     fit(&xml, &options, &files.unwrap_or_default())
+}
+
+/// `{ robot, report }`: the spec of `robotFromUrdf` and what the import did
+/// (`report.joints[]`: radius and its source, defaulted limits;
+/// `linksWithoutPrimitive`, `outsideChain`, `startContacts`).
+#[wasm_bindgen(js_name = importUrdf)]
+pub fn import_urdf(xml: JsValue, options: JsValue) -> Result<JsValue, JsError> {
+    let xml = xml_of(xml)?;
+    let (options, _) = split_options(options)?;
+    let import = crate::world::import_urdf(&xml, &options).map_err(|e| js_error(&e))?;
+    to_js(&import)
 }

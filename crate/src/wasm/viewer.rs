@@ -11,9 +11,7 @@ use serde::{Deserialize, Serialize};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
-use super::convert::{
-    f64_vec, finite_arg, from_js, js_error, object_from_js, robot as robot_from_js, to_js,
-};
+use super::convert::{f64_vec, finite_arg, from_js, js_error, object_from_js, robot_named, to_js};
 use crate::render::{BackendRequest, Renderer};
 use crate::view::{DrawState, Stage, parse_view};
 
@@ -141,7 +139,7 @@ impl Viewer {
     /// An `Error` naming the field and the reason when the spec is invalid.
     #[wasm_bindgen(js_name = setRobot)]
     pub fn set_robot(&mut self, spec: JsValue) -> Result<(), JsError> {
-        let robot = robot_from_js(spec)?;
+        let (robot, _) = robot_named(spec)?;
         self.stage.set_robot(robot).map_err(|e| js_error(&e))
     }
 

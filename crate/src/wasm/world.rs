@@ -23,13 +23,32 @@ pub(super) fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
     if !value.is_object() {
         return Err(js_error(&FieldError::new("scenario", "expected an object")));
     }
-    let json = super::boundary::read_json("scenario", &value)?;
-    if !json.is_object() {
+    let mut json = super::boundary::read_json("scenario", &value)?;
+    let Some(map) = json.as_object_mut() else {
         return Err(js_error(&FieldError::new("scenario", "expected an object")));
-    }
+    };
+    // `q0` by joint name (`{ panda_joint1: 0.1, … }`) is read once the robot is known.
+    let named_q0 = match map.remove("q0") {
+        Some(serde_json::Value::Object(q0)) => Some(q0),
+        Some(other) => {
+            map.insert("q0".to_owned(), other);
+            None
+        }
+        None => None,
+    };
     super::boundary::check_magnitudes("", &json)?;
-    let s: Scenario = super::convert::from_json_at("", "scenario", json.clone())?;
+    let mut s: Scenario = super::convert::from_json_at("", "scenario", json.clone())?;
     refuse_positional("", &json, &s)?;
+    if let Some(q0) = named_q0 {
+        let names = s
+            .robot
+            .spec()
+            .map_err(|e| js_error(&e.within("robot")))?
+            .joint_names;
+        s.q0 = Some(
+            super::convert::named_joints("q0", &q0, names.as_deref()).map_err(|e| js_error(&e))?,
+        );
+    }
     s.validate().map_err(|e| scenario_error(&e))?;
     Ok(s)
 }
@@ -138,6 +157,7 @@ const WORLD_ARGS: &[(&str, &[&str])] = &[
     ("removeObstacle", &["id"]),
     ("setObstacleShape", &["id", "shape"]),
     ("clearanceTo", &["shape"]),
+    ("clearance", &["id"]),
     ("riskAt", &["shape", "sensing"]),
     ("moveObstacle", &["id", "position"]),
     ("setController", &["controller"]),
@@ -242,6 +262,38 @@ impl WorldHandle {
     pub fn state(&self, since: JsValue) -> Result<JsValue, JsError> {
         let since = count_arg("since", &since, Some(0), u32::MAX)?;
         to_js(&self.inner.state_since(since as usize))
+    }
+
+    /// The joint values now (rad or m), in the order of the robot's joints:
+    /// a cheap read for a page that plots them every frame.
+    #[must_use]
+    pub fn q(&self) -> Vec<f64> {
+        self.inner.q().to_vec()
+    }
+
+    /// The joint velocities now (rad/s or m/s), in the order of `q`.
+    #[must_use]
+    pub fn qdot(&self) -> Vec<f64> {
+        self.inner.qdot().to_vec()
+    }
+
+    /// Clearance (m) between the arm and obstacle `id` now (true pose;
+    /// negative: overlap; `Infinity` for a robot without segments).
+    ///
+    /// # Errors
+    /// `id: no obstacle "…"` for an unknown id, or `id` not a string.
+    pub fn clearance(&self, id: JsValue) -> Result<f64, JsError> {
+        let id = string_arg("id", &id)?;
+        self.inner.clearance_of(&id).map_err(|e| scenario_error(&e))
+    }
+
+    /// The controller configuration in effect, every field filled in (the
+    /// library's defaults for those the scenario omits).
+    ///
+    /// # Errors
+    /// Only if it cannot be converted (a bug).
+    pub fn controller(&self) -> Result<JsValue, JsError> {
+        to_js(&self.inner.scenario().controller)
     }
 
     /// Adds an obstacle `{ id, shape, motion? }`.

@@ -41,11 +41,16 @@ use crate::kinematics::{Frames, Robot};
 use crate::scenario::{ObstacleSpec, Scenario, ScenarioError, ShapeSpec, TaskSpec, Trace};
 use crate::skeleton::Skeleton;
 
+mod clock;
 mod edit;
 mod guard;
 mod monitor;
 mod obstacles;
 mod probe;
+mod readout;
+mod start;
+
+pub use start::import_urdf;
 mod state;
 mod step;
 mod track;
@@ -128,6 +133,8 @@ pub struct World {
     step_qdot: Vec<f64>,
     step_dt: f64,
     step_q: Vec<f64>,
+    /// Counts equal steps so that `t` is `k·dt` without rounding drift.
+    clock: clock::Clock,
 }
 
 fn err(e: FieldError) -> ScenarioError {
@@ -218,6 +225,7 @@ impl World {
             step_qdot: Vec::new(),
             step_dt: 0.0,
             step_q: Vec::new(),
+            clock: clock::Clock::default(),
         };
         w.rebuild_scene(0.0, false);
         Ok(w)
@@ -433,8 +441,9 @@ fn fixed_link_pairs(robot: &Robot) -> Vec<(usize, usize)> {
     out
 }
 
-/// Runs `scenario` from `t = 0` to its duration and returns the trace
-/// (a sample every `sampleEvery` steps, then every event).
+/// Runs `scenario` from `t = 0` to its duration and returns the trace: a
+/// sample every `sampleEvery` steps from `t = 0` (`t = k·dt` exactly) and
+/// one at `t = duration`, then every event.
 ///
 /// # Errors
 /// Whatever [`Scenario::validate`] reports.
@@ -452,12 +461,28 @@ pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
     let steps = (scenario.duration / scenario.dt).round() as u64;
     let every = scenario.sample_every.max(1) as u64;
     let mut samples = Vec::new();
-    for k in 0..steps {
+    // A sample is the state a step acts on: the clearance to each obstacle
+    // is measured before the step, the rest comes from the step.
+    let take = |world: &mut World| {
+        let clearances = world.clearances();
         world.step(scenario.dt);
+        let mut sample = world.sample();
+        sample.clearances = clearances;
+        sample
+    };
+    for k in 0..steps {
         if k % every == 0 {
-            samples.push(world.sample());
+            samples.push(take(&mut world));
+        } else {
+            world.step(scenario.dt);
         }
     }
+    // The sample at `t = duration`: one more control step evaluates the
+    // state there (clearances, control points); only its sample is kept,
+    // not its motion or its events.
+    let events = world.events.len();
+    samples.push(take(&mut world));
+    world.events.truncate(events);
     Ok(Trace {
         samples,
         events: world.events,

@@ -55,6 +55,8 @@ pub struct SegmentState {
     pub to: usize,
     /// Link (1-based).
     pub link: usize,
+    /// Which translation of the row it spans (`d`, `a` or `extension`).
+    pub part: crate::skeleton::SpinePart,
     /// Radius at each end (m).
     pub radius: [f64; 2],
 }
@@ -241,6 +243,7 @@ impl World {
                         from: s.from,
                         to: s.to,
                         link: s.link,
+                        part: s.part,
                         radius: s.radius,
                     })
                     .collect(),
@@ -292,6 +295,8 @@ impl World {
         Sample {
             t: self.step_t,
             q: self.step_q.clone(),
+            qdot: self.step_qdot.clone(),
+            clearances: std::collections::BTreeMap::new(),
             min_clearance: self.min_clearance,
             control_points: self
                 .points

@@ -372,7 +372,8 @@ impl World {
         })
     }
 
-    /// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`.
+    /// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`
+    /// (counted as `k·dt`, see `clock`).
     fn limit_and_integrate(&mut self, dt: f64) {
         self.step_t = self.t;
         // A chattering stop decelerates gently (`maxDeceleration`); a stop
@@ -403,6 +404,6 @@ impl World {
             *q += v * dt;
         }
         self.robot.clamp_to_limits(&mut self.q);
-        self.t += dt;
+        self.t = self.clock.advance(self.t, dt);
     }
 }

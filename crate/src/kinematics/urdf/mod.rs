@@ -31,6 +31,11 @@
 //!   [`crate::fitting::fit_urdf`] replaces these radii by ones fitted to the
 //!   collision meshes (JS: `robotFromUrdf(xml, { meshes })`, `fitUrdf`);
 //!   [`robot_with_links`] lists the links with their meshes and poses.
+//!   [`UrdfOptions::radii`] replaces a link's geometry by a radius.
+//! - The spec carries every value used (radius and motion limits, the
+//!   defaults written in); DH values are cleaned of rounding dust
+//!   ([`report::clean`]); [`import_urdf`] also returns a
+//!   [`report::UrdfReport`] of what was defaulted and left out.
 //!
 //! Not imported: mimic joints, `floating`, `planar` and `spherical` joints in
 //! the chain (an error names the joint: choose a tip before it), closed loops
@@ -39,10 +44,11 @@
 
 pub mod dh;
 mod links;
+pub mod report;
 
 use links::chain_links;
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 use serde::Deserialize;
@@ -53,7 +59,7 @@ use crate::error::FieldError;
 use crate::math;
 
 /// Which part of the URDF to import.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(rename_all = "camelCase", deny_unknown_fields)]
 pub struct UrdfOptions {
     /// The link at the end of the chain; default: the end of the longest
@@ -65,6 +71,10 @@ pub struct UrdfOptions {
     /// root link.
     #[serde(default)]
     pub base: Option<String>,
+    /// Radius (m) per link name, instead of its collision geometry: a row's
+    /// radius is the largest over the links it moves.
+    #[serde(default)]
+    pub radii: Option<BTreeMap<String, f64>>,
     /// An SRDF document (MoveIt's semantic description): its
     /// `disable_collisions` pairs between links of the chain become the
     /// spec's `selfCollisionExclude`.
@@ -101,7 +111,19 @@ pub struct UrdfOptions {
 ///
 /// See also [`dh::dh_chain`], [`Robot::from_spec`].
 pub fn robot_from_urdf(xml: &str, options: &UrdfOptions) -> Result<RobotSpec, FieldError> {
-    robot_with_links(xml, options).map(|(spec, _)| spec)
+    Ok(import_urdf(xml, options)?.robot)
+}
+
+/// [`robot_from_urdf`] with what it did: the spec (every motion limit and
+/// radius filled in) and a [`report::UrdfReport`] of the radii's sources,
+/// the defaulted limits, the links without primitive collision shapes and
+/// the joints outside the chain (`world::import_urdf` adds the links
+/// overlapping at q = 0).
+///
+/// # Errors
+/// As [`robot_from_urdf`], and `radii.<link>: …` for a bad override.
+pub fn import_urdf(xml: &str, options: &UrdfOptions) -> Result<report::UrdfImport, FieldError> {
+    import_with_links(xml, options).map(|(import, _)| import)
 }
 
 /// A link of the imported chain and its geometry at `q = 0`.
@@ -142,6 +164,14 @@ pub fn robot_with_links(
     xml: &str,
     options: &UrdfOptions,
 ) -> Result<(RobotSpec, Vec<ChainLink>), FieldError> {
+    import_with_links(xml, options).map(|(import, links)| (import.robot, links))
+}
+
+/// The import, its report and the chain's links.
+fn import_with_links(
+    xml: &str,
+    options: &UrdfOptions,
+) -> Result<(report::UrdfImport, Vec<ChainLink>), FieldError> {
     let urdf = urdf_rs::read_from_string(xml)
         .map_err(|e| FieldError::new("xml", format!("not a readable URDF: {e}")))?;
     let tree = Tree::new(&urdf)?;
@@ -164,7 +194,9 @@ pub fn robot_with_links(
         ));
     }
     let links = chain_links(&urdf, &base, &path, &chain)?;
-    Ok((chain.into_spec(&urdf.name, options.srdf.as_deref())?, links))
+    let mut robot = chain.into_spec(&urdf.name, options.srdf.as_deref())?;
+    let report = report::complete(&urdf, &path, &mut robot, options)?;
+    Ok((report::UrdfImport { robot, report }, links))
 }
 
 /// The `disable_collisions` pairs of an SRDF document between links of the
@@ -499,10 +531,10 @@ impl Chain {
         let table = dh::dh_chain(&self.axes, &self.tip);
         let mut joints = self.joints;
         for (spec, row) in joints.iter_mut().zip(&table.rows) {
-            spec.a = row.a;
-            spec.alpha = row.alpha;
-            spec.d = row.d;
-            spec.theta = row.theta;
+            spec.a = report::clean(row.a);
+            spec.alpha = report::clean(row.alpha);
+            spec.d = report::clean(row.d);
+            spec.theta = report::clean(row.theta);
         }
         let mut spec = RobotSpec {
             name: (!name.is_empty()).then(|| name.to_owned()),
@@ -528,8 +560,8 @@ impl Chain {
 fn pose(t: &DAffine3) -> PoseSpec {
     let q = DQuat::from_mat3(&t.matrix3).normalize();
     PoseSpec {
-        position: t.translation.to_array(),
-        rotation: q.to_array(),
+        position: t.translation.to_array().map(report::clean_length),
+        rotation: q.to_array().map(report::clean_length),
     }
 }
 
