@@ -95,9 +95,11 @@ impl World {
     pub fn set_obstacle_shape(&mut self, id: &str, shape: ShapeSpec) -> Result<(), ScenarioError> {
         let k = self.index_of(id)?;
         let parts = primitives(&shape).map_err(|e| e.within("shape"))?;
+        let human = super::obstacles::human_of(&shape)?;
         let o = &mut self.obstacles[k];
         o.reference = reference_point(&shape);
         o.parts = parts;
+        o.human = human;
         o.spec.shape = shape.clone();
         self.scenario.obstacles[k].shape = shape;
         self.scene_dirty = true;

@@ -54,7 +54,7 @@ impl World {
         // 1. sense
         let moving = self.obstacles.iter().any(super::ObstacleState::moves);
         if moving || self.scene_dirty {
-            self.rebuild_scene(self.t, true);
+            self.rebuild_scene(self.t, true, dt);
         }
         let t = self.t;
         for o in &mut self.obstacles {
@@ -108,12 +108,21 @@ impl World {
                 .map_err(|e| FieldError::new("scene", e.to_string()))
         };
         let pairs = query(&self.scene)?;
-        self.min_clearance = if self.obstacles.iter().any(|o| !o.sensor.is_exact()) {
-            let exact = query(&self.clone_scene_at(self.t))?;
-            exact.iter().map(|p| p.distance).reduce(f64::min)
+        let exact = if self.obstacles.iter().any(|o| !o.sensor.is_exact()) {
+            Some(query(&self.clone_scene_at(self.t))?)
         } else {
-            pairs.iter().map(|p| p.distance).reduce(f64::min)
+            None
         };
+        let closest = exact
+            .as_ref()
+            .unwrap_or(&pairs)
+            .iter()
+            .min_by(|a, b| a.distance.total_cmp(&b.distance));
+        self.min_clearance = closest.map(|p| p.distance);
+        self.closest_part = closest.and_then(|p| match p.target {
+            Target::Obstacle { id, .. } => self.scene_part_name(id as usize),
+            Target::Segment(_) => None,
+        });
         Ok(pairs)
     }
 
@@ -197,6 +206,8 @@ impl World {
             min_ttc = min_ttc.min(ttc);
             let approach = Approach {
                 owner,
+                obstacle_velocity: owner
+                    .map_or(DVec3::ZERO, |o| self.approach_velocity(o, position)),
                 name: &name,
                 ttc,
                 normal: ttc_normal,
@@ -205,7 +216,7 @@ impl World {
                 closing,
                 was_slow,
             };
-            self.monitor_transition(&key, &approach, cfg, dt);
+            self.monitor_transition(&key, &approach, cfg);
             let target = target.and_then(|x| {
                 DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
                     .ok()
@@ -229,6 +240,7 @@ impl World {
                 link: dh.link,
                 d: dh.d,
                 a: dh.a,
+                part: owner.and_then(|o| self.witness_part(o, position)),
                 obstacle: name,
                 distance: dist,
                 witness: witness.to_array(),
@@ -350,24 +362,29 @@ impl World {
 
     /// The pairs the protective layer guards: every pair within the
     /// influence distance, obstacles as sensed (margin subtracted).
-    fn guard_pairs(&mut self, cfg: &ControllerConfig, pairs: &[PairDistance], dt: f64) {
+    fn guard_pairs(&mut self, cfg: &ControllerConfig, pairs: &[PairDistance]) {
         let mut out = std::mem::take(&mut self.guard_pairs);
         out.clear();
         for p in pairs {
-            let (distance, obstacle, other, speed) = match p.target {
+            let (distance, obstacle, other, speed, part) = match p.target {
                 Target::Obstacle { id, .. } => {
                     let o = self.owners[id as usize];
-                    let v = self.obstacles[o].velocity(self.t, dt);
+                    // The approaching part's own velocity at its witness.
+                    let v = self
+                        .part_motion
+                        .get(id as usize)
+                        .map_or(DVec3::ZERO, |m| m.velocity_at(p.point_other));
                     (
                         p.distance - self.obstacles[o].margin,
                         Some(o),
                         None,
                         -p.normal.dot(v),
+                        Some(id as usize),
                     )
                 }
                 Target::Segment(other) => {
                     let u = fraction_on(&self.skeleton, other, p.point_other);
-                    (p.distance, None, Some((other, u)), 0.0)
+                    (p.distance, None, Some((other, u)), 0.0, None)
                 }
             };
             if distance > cfg.influence_distance {
@@ -381,6 +398,7 @@ impl World {
                 distance,
                 obstacle_speed: speed,
                 obstacle,
+                part,
             });
         }
         self.guard_pairs = out;
@@ -400,7 +418,7 @@ impl World {
         if !p.enabled {
             return Ok(true);
         }
-        self.guard_pairs(cfg, pairs, dt);
+        self.guard_pairs(cfg, pairs);
         let braking = braking_time(&self.robot, &self.motion, dt);
         let floor = if self.stopped { 0.0 } else { f64::NEG_INFINITY };
         let mut guards = std::mem::take(&mut self.guards);
