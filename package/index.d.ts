@@ -151,12 +151,46 @@ export type Primitive =
   | { type: 'box'; center: Vec3; halfExtents: Vec3; rotation: Quat }
   | { type: 'convexHull'; points: Vec3[] };
 
+/** Joint angles of a human (rad), any subset; docs/scenarios.md lists the names and ranges. */
+export type HumanPose = Partial<Record<
+  | 'spineFlexion' | 'spineLateral' | 'spineTwist' | 'neckFlexion' | 'neckTwist'
+  | 'leftShoulderFlexion' | 'leftShoulderAbduction' | 'leftShoulderRotation' | 'leftElbow'
+  | 'rightShoulderFlexion' | 'rightShoulderAbduction' | 'rightShoulderRotation' | 'rightElbow'
+  | 'leftHipFlexion' | 'leftHipAbduction' | 'leftKnee'
+  | 'rightHipFlexion' | 'rightHipAbduction' | 'rightKnee',
+  number
+>>;
+
+export interface HumanKeyframe {
+  /** s */
+  t: number;
+  pose?: HumanPose;
+  /** Root displacement in the body's frame: forward, left, up (m). */
+  shift?: Vec3;
+}
+
+/** Keyframes, or a motion of the library with its parameters. */
+export interface HumanAnimation {
+  keyframes?: HumanKeyframe[];
+  loop?: boolean;
+  clip?: 'reach' | 'wave' | 'walk' | 'bend' | 'stepBack';
+  /** `reach`: the point the hand reaches for (m). */
+  target?: Vec3;
+  side?: 'left' | 'right';
+  /** m/s: the hand's peak speed (`reach`) or the walking speed (`walk`). */
+  speed?: number;
+  /** s */
+  start?: number;
+}
+
 export interface Human {
   type: 'human';
   position: Vec3;
   heading?: number;
   height?: number;
   reach?: number;
+  pose?: HumanPose;
+  animation?: HumanAnimation;
 }
 
 export type Shape = Primitive | Human;
@@ -347,6 +381,8 @@ export interface Trace {
 
 export interface StateControlPoint extends TraceControlPoint {
   witness: Vec3;
+  /** The human part it answers, `id:part` (`person:rightHand`); absent for other obstacles. */
+  part?: string;
   /** m/s (velocity, clik2) or N (torque). */
   repulsion: Vec3;
   transitioning: boolean;
@@ -361,6 +397,8 @@ export interface WorldState {
   qdot: number[];
   qddot: number[];
   minClearance: number | null;
+  /** The human part at `minClearance`, `id:part`; absent when that pair is not a human's. */
+  closestPart?: string;
   skeleton: { nodes: Vec3[]; segments: SkeletonSegment[] };
   obstacles: { id: string; shape: Shape; parts: Primitive[] }[];
   controlPoints: StateControlPoint[];
