@@ -37,13 +37,23 @@ pub struct Keyframe {
     /// up (m; default zero).
     #[serde(default, skip_serializing_if = "is_zero3")]
     pub shift: [f64; 3],
+    /// Turn of the root about z, added to the heading (rad; default zero).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub turn: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 fn is_zero3(v: &[f64; 3]) -> bool {
     *v == [0.0; 3]
 }
 
-const CHANNELS: usize = JOINT_COUNT + 3;
+const CHANNELS: usize = JOINT_COUNT + 4;
+
+/// Largest turn a keyframe may ask (rad).
+pub const MAX_TURN: f64 = 1000.0;
 
 /// A validated, ready-to-sample animation.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,6 +75,10 @@ pub struct Sampled {
     pub shift: DVec3,
     /// Its rate (m/s).
     pub shift_rate: DVec3,
+    /// Turn of the root about z (rad).
+    pub turn: f64,
+    /// Its rate (rad/s).
+    pub turn_rate: f64,
 }
 
 fn harmonic(a: f64, b: f64) -> f64 {
@@ -108,9 +122,11 @@ impl Animation {
             for (i, s) in f.shift.iter().enumerate() {
                 bounded(&at(&format!("shift[{i}]")), *s, MAX_SHIFT)?;
             }
+            bounded(&at("turn"), f.turn, MAX_TURN)?;
             let mut v = [0.0; CHANNELS];
             v[..JOINT_COUNT].copy_from_slice(&f.pose.angles);
-            v[JOINT_COUNT..].copy_from_slice(&f.shift);
+            v[JOINT_COUNT..JOINT_COUNT + 3].copy_from_slice(&f.shift);
+            v[JOINT_COUNT + 3] = f.turn;
             times.push(f.t);
             values.push(v);
         }
@@ -196,6 +212,8 @@ impl Animation {
             rate[JOINT_COUNT + 1],
             rate[JOINT_COUNT + 2],
         );
+        s.turn = out[JOINT_COUNT + 3];
+        s.turn_rate = rate[JOINT_COUNT + 3];
         s
     }
 }

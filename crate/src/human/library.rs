@@ -52,6 +52,7 @@ pub fn clip(
         t: start + t,
         pose: pose.clamped(),
         shift: [0.0; 3],
+        turn: 0.0,
     };
     let keys = match name {
         "reach" => {
@@ -207,16 +208,25 @@ pub fn reach_pose(human: &HumanSpec, rest: &Pose, arm: usize, target: DVec3) -> 
         .unwrap_or_else(|| (DVec3::Y * side - dir * (dir.y * side)).normalize_or(DVec3::X));
     let (sb, cb) = crate::math::sin_cos(beta);
     let along = dir * cb + w * sb;
-    let x_u = dir * sb - w * cb;
-    let z_u = -along;
-    let m = DMat3::from_cols(x_u, z_u.cross(x_u), z_u);
-    // m = Ry(α) Rx(β') Rz(γ) with α = −flexion, β' = side·abduction,
-    // γ = −side·rotation.
-    let sb_ = (-m.col(2).y).clamp(-1.0, 1.0);
-    let b = crate::math::atan2(sb_, (1.0 - sb_ * sb_).sqrt());
-    let g = crate::math::atan2(m.col(0).y, m.col(1).y);
-    let al = crate::math::atan2(m.col(2).x, m.col(2).z);
+    let bend = dir * sb - w * cb;
+    let [flexion, abduction, rotation] = arm_angles(along, bend, side);
     let mut out = *rest;
-    out.angles[arm..arm + 4].copy_from_slice(&[-al, side * b, -side * g, elbow]);
+    out.angles[arm..arm + 4].copy_from_slice(&[flexion, abduction, rotation, elbow]);
     out.clamped()
+}
+
+/// Shoulder flexion, abduction and rotation (rad) that point the upper arm
+/// along the unit `along` (trunk frame) with the elbow bending towards the
+/// unit `bend` (perpendicular to `along`); `side` +1 left, −1 right.
+#[must_use]
+pub fn arm_angles(along: DVec3, bend: DVec3, side: f64) -> [f64; 3] {
+    let z_u = -along;
+    let m = DMat3::from_cols(bend, z_u.cross(bend), z_u);
+    // m = Ry(α) Rx(β) Rz(γ) with α = −flexion, β = side·abduction,
+    // γ = −side·rotation.
+    let sb = (-m.col(2).y).clamp(-1.0, 1.0);
+    let b = crate::math::atan2(sb, (1.0 - sb * sb).sqrt());
+    let g = crate::math::atan2(m.col(0).y, m.col(1).y);
+    let a = crate::math::atan2(m.col(2).x, m.col(2).z);
+    [-a, side * b, -side * g]
 }

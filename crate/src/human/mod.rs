@@ -34,6 +34,7 @@ mod body;
 pub mod library;
 mod pose;
 mod spec;
+pub mod track;
 
 pub use animation::{Animation, Keyframe, MAX_KEYFRAMES, MAX_SHIFT, Sampled};
 pub use body::{PART_NAMES, Part, Posed, Root, pose_body, proportion, rotation};

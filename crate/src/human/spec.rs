@@ -187,19 +187,19 @@ impl Human {
         let s = &self.spec;
         let turn = super::body::rotation(DVec3::Z, s.heading);
         let base = DVec3::from_array(s.position) + offset;
-        let (pose, rates, shift, shift_rate) = match &self.animation {
-            Some(a) => {
-                let x = a.sample(t);
-                (x.pose, x.rates, x.shift, x.shift_rate)
-            }
-            None => (self.rest, [0.0; JOINT_COUNT], DVec3::ZERO, DVec3::ZERO),
+        let x = match &self.animation {
+            Some(a) => a.sample(t),
+            None => super::animation::Sampled {
+                pose: self.rest,
+                ..Default::default()
+            },
         };
         let root = Root {
-            position: base + turn * shift,
-            heading: s.heading,
-            velocity: offset_velocity + turn * shift_rate,
-            heading_rate: 0.0,
+            position: base + turn * x.shift,
+            heading: s.heading + x.turn,
+            velocity: offset_velocity + turn * x.shift_rate,
+            heading_rate: x.turn_rate,
         };
-        pose_body(s.height, &root, &pose, &rates)
+        pose_body(s.height, &root, &x.pose, &x.rates)
     }
 }
