@@ -376,3 +376,30 @@ fn bad_humans_are_refused_naming_the_field() {
     let a = AnimationSpec::default();
     assert!(a.keyframes.is_none());
 }
+
+#[test]
+fn moving_a_hand_moves_only_its_arm() {
+    let h = spec(
+        r#"{ "type": "human", "position": [1.0, 0.2, 0], "heading": 3.0,
+             "animation": { "clip": "wave" } }"#,
+    );
+    let before = h.parts();
+    // Up and back towards the body (the arm at rest is straight, so a
+    // hand cannot go farther out).
+    let delta = DVec3::new(0.15, 0.05, 0.25);
+    let moved = library::move_hand(&h, "right", delta).unwrap();
+    assert!(moved.animation.is_none());
+    let after = moved.parts();
+    for (k, name) in PART_NAMES.iter().enumerate() {
+        let arm = ["rightUpperArm", "rightForearm", "rightHand"].contains(name);
+        assert_eq!(before[k] == after[k], !arm, "{name}");
+    }
+    let tip = |p: &[PrimitiveSpec]| match &p[9] {
+        PrimitiveSpec::Capsule(c) => DVec3::from_array(c.b),
+        _ => panic!(),
+    };
+    close(tip(&after), tip(&before) + delta, 1e-9);
+    assert_eq!(library::move_hand(&h, "middle", delta).unwrap_err().field, "side");
+    let e = library::move_hand(&h, "left", DVec3::new(f64::NAN, 0.0, 0.0)).unwrap_err();
+    assert!(e.field.starts_with("delta"), "{e}");
+}

@@ -230,3 +230,44 @@ pub fn arm_angles(along: DVec3, bend: DVec3, side: f64) -> [f64; 3] {
     let a = crate::math::atan2(m.col(2).x, m.col(2).z);
     [-a, side * b, -side * g]
 }
+
+/// The index of the first joint of arm `side` (`left` or `right`).
+///
+/// # Errors
+/// `side: expected "left" or "right"`.
+pub fn arm_of(side: &str) -> Result<usize, FieldError> {
+    match side {
+        "left" => Ok(joint::LEFT_ARM),
+        "right" => Ok(joint::RIGHT_ARM),
+        other => Err(FieldError::new(
+            "side",
+            format!("expected \"left\" or \"right\", got \"{other}\""),
+        )),
+    }
+}
+
+/// Where the end of hand `arm` is at rest (m): the centre of its far cap.
+#[must_use]
+pub fn hand_end(human: &HumanSpec, arm: usize) -> DVec3 {
+    capsule_ends(human, &human.rest_pose(), arm_parts(arm)[2]).1
+}
+
+/// `human` with hand `side` moved by `delta` (m) from where it is at rest:
+/// only that arm's angles change (the two-link solution of
+/// [`reach_pose`]); the animation is dropped, so the person holds the new
+/// pose.
+///
+/// # Errors
+/// `side: …`, `delta: not a finite number`, or the human's own
+/// validation.
+pub fn move_hand(human: &HumanSpec, side: &str, delta: DVec3) -> Result<HumanSpec, FieldError> {
+    human.compile()?;
+    let arm = arm_of(side)?;
+    let delta = finite3("delta", delta)?;
+    let rest = human.rest_pose();
+    let target = hand_end(human, arm) + delta;
+    let mut out = human.clone();
+    out.pose = Some(Box::new(reach_pose(human, &rest, arm, target)));
+    out.animation = None;
+    Ok(out)
+}

@@ -179,11 +179,12 @@ impl World {
         let hit = scene.pick(origin, direction, PICK_RADIUS)?;
         let mut owners = Vec::new();
         for (k, o) in self.obstacles.iter().enumerate() {
-            owners.extend(std::iter::repeat_n(k, o.parts.len()));
+            owners.extend((0..o.parts.len()).map(|i| (k, i)));
         }
         Ok(hit.and_then(|h| {
-            owners.get(h.id as usize).map(|&k| Pick {
+            owners.get(h.id as usize).map(|&(k, i)| Pick {
                 id: self.obstacles[k].spec.id.clone(),
+                part: self.obstacles[k].part_name(i).map(str::to_owned),
                 point: h.point.to_array(),
                 distance: h.distance,
             })

@@ -159,6 +159,9 @@ pub struct WorldState {
 pub struct Pick {
     /// Obstacle id.
     pub id: String,
+    /// The part of a human it hit (`rightHand`; absent for other obstacles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub part: Option<String>,
     /// Where the ray meets it (m).
     pub point: [f64; 3],
     /// Distance along the ray (m).
