@@ -7,7 +7,7 @@ import { createRequire } from 'node:module';
 const require = createRequire(import.meta.url);
 const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
 
-const NAMES = ['planar-transition', 'lwr4-elbow', 'human-panda', 'dual-arm-self', 'chattering', 'sliding-point'];
+const NAMES = ['planar-transition', 'lwr4-elbow', 'human-panda', 'human-reach', 'dual-arm-self', 'chattering', 'sliding-point'];
 
 test('exampleScenarioNames lists the shipped examples and each one loads', () => {
   assert.deepEqual(sa.exampleScenarioNames(), NAMES);
