@@ -399,7 +399,10 @@ fn moving_a_hand_moves_only_its_arm() {
         _ => panic!(),
     };
     close(tip(&after), tip(&before) + delta, 1e-9);
-    assert_eq!(library::move_hand(&h, "middle", delta).unwrap_err().field, "side");
+    assert_eq!(
+        library::move_hand(&h, "middle", delta).unwrap_err().field,
+        "side"
+    );
     let e = library::move_hand(&h, "left", DVec3::new(f64::NAN, 0.0, 0.0)).unwrap_err();
     assert!(e.field.starts_with("delta"), "{e}");
 }

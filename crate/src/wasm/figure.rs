@@ -79,7 +79,15 @@ pub fn import_track_js(text: JsValue, options: JsValue) -> Result<JsValue, JsErr
         object_from_js("options", options)?
     };
     let out = crate::human::track::import(&text, &options).map_err(|e| js_error(&e))?;
-    to_js(&out)
+    #[derive(serde::Serialize)]
+    struct Imported {
+        shape: ShapeSpec,
+        report: crate::human::track::TrackReport,
+    }
+    to_js(&Imported {
+        shape: ShapeSpec::Human(out.shape),
+        report: out.report,
+    })
 }
 
 /// A human `shape` with its `side` (`"left"` or `"right"`) hand moved by
