@@ -415,6 +415,8 @@ export interface WorldState {
 
 export interface PickResult {
   id: string;
+  /** The human part hit (`rightHand`); absent for other obstacles. */
+  part?: string;
   point: Vec3;
   distance: number;
 }
@@ -517,6 +519,33 @@ export function distance(a: Primitive, b: Primitive): DistanceResult;
 export function referencePoint(shape: Shape): Vec3;
 /** The figure moved by `delta` (m), in the form it was given. */
 export function translateShape<S extends Shape>(shape: S, delta: Vec3): S;
+/** The human with its `side` hand moved by `delta` (m) from rest: only that arm changes; the animation is dropped. */
+export function moveHumanHand(shape: Human, side: 'left' | 'right', delta: Vec3): Human;
+
+export interface TrackOptions {
+  format?: 'json' | 'csv';
+  layout?: 'coco17' | 'body25' | 'kinect32';
+  /** m; default estimated from the limbs. */
+  height?: number;
+  /** Time constant of the zero-phase jitter filter (s, default 0.03; 0: off). */
+  smoothing?: number;
+  /** Longest gap filled by interpolation (s, default 0.5). */
+  maxGap?: number;
+}
+
+export interface TrackReport {
+  layout: string;
+  frames: number;
+  duration: number;
+  height: number;
+  /** Keypoint positions filled in (interpolated or held). */
+  filled: number;
+  /** Joint angles clamped into the body's range. */
+  clamped: number;
+}
+
+/** A recorded keypoint track (JSON or CSV text) as a human that replays it; changes nothing by itself. */
+export function importTrack(text: string, options?: TrackOptions): { shape: Human; report: TrackReport };
 export function simulate(scenario: Scenario): Trace;
 export function exampleScenario(name: string): Scenario;
 export function exampleScenarioNames(): string[];
