@@ -64,6 +64,7 @@ pub mod human;
 pub mod kinematics;
 pub mod linalg;
 pub mod math;
+pub mod reach;
 pub mod rng;
 pub mod scenario;
 pub mod skeleton;

@@ -129,7 +129,7 @@ fn closing_ball() -> Scenario {
              "obstacles": [{ "id": "ball", "shape": { "type": "sphere", "center": [0.2, -0.25, 0.0], "radius": 0.05 },
                 "motion": { "type": "waypoints", "points": [[0, 0, 0], [0, 0, 0], [0.1, 0.82, 0], [0.1, 0.52, 0]],
                             "times": [0, 0.3, 0.3, 0.9] } }],
-             "task": { "type": "hold" }, "controller": { "selection": "perObstacle", "transitionTime": 0.1 },
+             "task": { "type": "hold" }, "controller": { "selection": "perObstacle", "transitionTime": 0.1, "avoidance": "repulsion" },
              "dt": 0.001, "duration": 1.0 }"#,
     )
     .unwrap()

@@ -36,6 +36,7 @@ fn elbow(center: DVec3, radius: f64, sigma: f64) -> Scenario {
         r#"{{ "robot": {{ "preset": "lwr4" }}, "q0": [0.0, 0.6, 0.0, -1.2, 0.0, 0.6, 0.0],
              "obstacles": [{{ "id": "ball", "shape": {{ "type": "sphere", "center": {c:?}, "radius": {radius} }} }}],
              "sensing": {{ "ball": {{ "sigma": {sigma}, "seed": 5 }} }},
+             "controller": {{ "avoidance": "repulsion" }},
              "dt": 0.001, "duration": 1.0 }}"#
     ))
     .unwrap()

@@ -13,75 +13,12 @@ use skeleton_avoidance::avoidance::Selection;
 use skeleton_avoidance::distance::{PrimitiveSpec, SphereSpec};
 use skeleton_avoidance::kinematics::{Robot, presets};
 use skeleton_avoidance::scenario::{
-    self, DhValues, EXAMPLE_NAMES, Motion, ObstacleSpec, RobotRef, Scenario, ShapeSpec, TaskSpec,
-    Trace,
+    self, DhValues, EXAMPLE_NAMES, Motion, MotionAudit, ObstacleSpec, RobotRef, Scenario,
+    ShapeSpec, TaskSpec, Trace, audit,
 };
 use skeleton_avoidance::world::{World, simulate};
 
-/// What a trace asks of the joints, against the robot's own limits.
-#[derive(Debug, Default)]
-struct Audit {
-    /// Peak |q̇| / maxVelocity over joints and samples.
-    velocity: f64,
-    /// Peak |q̈| / maxAcceleration (second differences of the sampled q).
-    acceleration: f64,
-    /// Peak |q⃛| / maxJerk (third differences).
-    jerk: f64,
-    /// Smallest clearance (m).
-    clearance: f64,
-    /// A contact (clearance ≤ 0) that began while a joint turned faster
-    /// than 0.01 rad/s: the time it began.
-    moving_contact: Option<f64>,
-}
-
-fn audit(robot: &Robot, trace: &Trace) -> Audit {
-    let s = &trace.samples;
-    let mut out = Audit {
-        clearance: f64::INFINITY,
-        ..Audit::default()
-    };
-    let (mut prev_v, mut prev_a): (Option<Vec<f64>>, Option<Vec<f64>>) = (None, None);
-    let mut touching = false;
-    for k in 1..s.len() {
-        let h = s[k].t - s[k - 1].t;
-        let v: Vec<f64> = s[k]
-            .q
-            .iter()
-            .zip(&s[k - 1].q)
-            .map(|(a, b)| (a - b) / h)
-            .collect();
-        let mut a = None;
-        for (i, j) in robot.joints.iter().enumerate() {
-            out.velocity = out.velocity.max(v[i].abs() / j.max_velocity);
-        }
-        if let Some(pv) = &prev_v {
-            let acc: Vec<f64> = v.iter().zip(pv).map(|(x, y)| (x - y) / h).collect();
-            for (i, j) in robot.joints.iter().enumerate() {
-                out.acceleration = out.acceleration.max(acc[i].abs() / j.max_acceleration);
-                if let Some(pa) = &prev_a {
-                    let jerk: f64 = (acc[i] - pa[i]) / h;
-                    out.jerk = out.jerk.max(jerk.abs() / j.max_jerk);
-                }
-            }
-            a = Some(acc);
-        }
-        if let Some(c) = s[k].min_clearance {
-            out.clearance = out.clearance.min(c);
-            let fastest = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            if c <= 0.0 && !touching && fastest > 0.01 && out.moving_contact.is_none() {
-                out.moving_contact = Some(s[k].t);
-            }
-            touching = c <= 0.0;
-        } else {
-            touching = false;
-        }
-        prev_v = Some(v);
-        prev_a = a;
-    }
-    out
-}
-
-fn check(name: &str, robot: &Robot, trace: &Trace) -> Audit {
+fn check(name: &str, robot: &Robot, trace: &Trace) -> MotionAudit {
     let a = audit(robot, trace);
     eprintln!(
         "{name:<28} |q̇|/lim {:.3}  |q̈|/lim {:.3}  jerk/lim {:.3}  min clearance {:.4} m  contact while moving {:?}",

@@ -15,10 +15,14 @@ use skeleton_avoidance::scenario::{self, Scenario, SensingConfig};
 use skeleton_avoidance::study::{self, MAX_RUNS, MonteCarloOptions, RunRow, Shard};
 use skeleton_avoidance::world::World;
 
-/// The `chattering` example (a noisy sphere between two links), shortened.
+/// The `chattering` example (a noisy sphere between two links), shortened,
+/// with the paper's repulsion: its command follows the noise, so noisy
+/// runs spread (the `constraints` avoidance rests at this distance and
+/// every run gives the same clearance).
 fn noisy(duration: f64) -> Scenario {
     let mut s = scenario::example("chattering").unwrap();
     s.duration = duration;
+    s.controller.avoidance = skeleton_avoidance::avoidance::Avoidance::Repulsion;
     s
 }
 

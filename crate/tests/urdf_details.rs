@@ -18,6 +18,7 @@ fn tip(t: &str) -> UrdfOptions {
     UrdfOptions {
         tip: Some(t.to_owned()),
         base: None,
+        srdf: None,
     }
 }
 
@@ -109,6 +110,7 @@ fn bad_input_names_the_element() {
     let b = UrdfOptions {
         base: Some("panda_link5".into()),
         tip: Some("panda_link2".into()),
+        srdf: None,
     };
     assert_eq!(
         error(PANDA, &b),

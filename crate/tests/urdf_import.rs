@@ -237,6 +237,7 @@ fn opts(base: Option<&str>, tip: &str) -> UrdfOptions {
     UrdfOptions {
         tip: Some(tip.to_owned()),
         base: base.map(str::to_owned),
+        srdf: None,
     }
 }
 

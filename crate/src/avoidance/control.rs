@@ -106,12 +106,12 @@ fn avoidance_rows(
 /// Rows of every task, stacked, with their velocity-level right-hand side
 /// (`ṗ_d + K (p_d − p)`, minus the moving-point terms of a point task) and
 /// their current positions.
-struct TaskLevel {
-    jac: Mat,
-    rhs: Vec<f64>,
+pub(super) struct TaskLevel {
+    pub(super) jac: Mat,
+    pub(super) rhs: Vec<f64>,
 }
 
-fn task_level(
+pub(super) fn task_level(
     robot: &Robot,
     frames: &Frames,
     tasks: &[TaskReference],

@@ -36,11 +36,14 @@ use serde::{Deserialize, Serialize};
 use crate::control_point::DhPoint;
 use crate::control_point::PointMotion;
 use crate::error::{FieldError, non_negative, positive};
+use crate::kinematics::LinkRef;
 use crate::linalg::Damping;
 
+pub mod constraints;
 pub mod control;
 pub mod limits;
 pub mod protect;
+pub mod qp;
 pub mod selection;
 
 pub use control::{clik2_control, torque_control, velocity_control};
@@ -57,6 +60,24 @@ pub enum Mode {
     Torque,
     /// Second-order closed-loop inverse kinematics (joint accelerations).
     Clik2,
+}
+
+/// How the velocity controller avoids (scenario field
+/// `controller.avoidance`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum Avoidance {
+    /// One-sided constraints in one QP with the tasks (default): the arm may
+    /// not approach any pair faster than its velocity damper allows and is
+    /// pushed away only inside the safety band or when an obstacle closes
+    /// in ([`constraints`]).
+    #[default]
+    Constraints,
+    /// The paper's potential-field repulsion: an equality row per control
+    /// point within the influence distance, the tasks in its null space
+    /// ([`control::velocity_control`]). The torque and `clik2` modes are the
+    /// paper's controllers and always use it.
+    Repulsion,
 }
 
 /// How control points are chosen.
@@ -127,6 +148,9 @@ impl Default for Clik2Gains {
 pub struct ControllerConfig {
     /// `velocity` (default), `torque` or `clik2`.
     pub mode: Mode,
+    /// `constraints` (default) or the paper's `repulsion` (velocity mode;
+    /// the other modes always use the repulsion).
+    pub avoidance: Avoidance,
     /// `pairs`, `perObstacle` (default) or `pinned`.
     pub selection: Selection,
     /// Points used by the `pinned` selection (default none).
@@ -153,9 +177,21 @@ pub struct ControllerConfig {
     pub torque: TorqueGains,
     /// Gains of `clik2` mode.
     pub clik2: Clik2Gains,
+    /// Clearance below which the `constraints` avoidance pushes the arm
+    /// away (m, ≥ 0 and < `influenceDistance`; default 0.05). Between it and
+    /// the influence distance a pair may only be approached at the damper's
+    /// speed, `maxRepulsionSpeed · (d − band) / (ρ₀ − band)`, less the
+    /// obstacle's own approach speed.
+    pub safety_band: f64,
     /// Whether segments of non-adjacent links repel each other (default
-    /// true).
+    /// true). Pairs whose distance no joint can change are left out
+    /// automatically.
     pub self_collision: bool,
+    /// Further pairs of links kept out of the self-collision query (like
+    /// MuJoCo's `exclude`; default none), e.g. `[[1, 4], ["panda_link1",
+    /// "panda_link4"]]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub self_collision_exclude: Vec<[LinkRef; 2]>,
     /// Eq. 4's joint weights `W` (one positive value per joint; default
     /// none: unit weights). A heavier joint moves less.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -192,6 +228,7 @@ impl Default for ControllerConfig {
     fn default() -> Self {
         Self {
             mode: Mode::Velocity,
+            avoidance: Avoidance::Constraints,
             selection: Selection::PerObstacle,
             pinned: Vec::new(),
             influence_distance: 0.3,
@@ -204,7 +241,9 @@ impl Default for ControllerConfig {
             damping: DampingConfig::default(),
             torque: TorqueGains::default(),
             clik2: Clik2Gains::default(),
+            safety_band: 0.02,
             self_collision: true,
+            self_collision_exclude: Vec::new(),
             joint_weights: None,
             moving_point_terms: true,
             protective: ProtectiveConfig::default(),
@@ -221,6 +260,16 @@ impl ControllerConfig {
     pub fn validate(&self) -> Result<(), FieldError> {
         positive("influenceDistance", self.influence_distance)?;
         non_negative("repulsionGain", self.repulsion_gain)?;
+        non_negative("safetyBand", self.safety_band)?;
+        if self.safety_band >= self.influence_distance {
+            return Err(FieldError::new(
+                "safetyBand",
+                format!(
+                    "must be < influenceDistance ({}), got {}",
+                    self.influence_distance, self.safety_band
+                ),
+            ));
+        }
         non_negative("maxRepulsionSpeed", self.max_repulsion_speed)?;
         positive("transitionTime", self.transition_time)?;
         non_negative("jumpThreshold", self.jump_threshold)?;

@@ -63,6 +63,10 @@ pub struct ProtectiveConfig {
     pub safety_distance: f64,
     /// Reaction time `T_r` of sensing and control (s, ≥ 0; default 0.01).
     pub reaction_time: f64,
+    /// Speed at which the arm backs out of a static or receding obstacle
+    /// it overlaps or is closer to than the safety distance (m/s, > 0;
+    /// default 0.05): the guard asks for no faster retreat than this.
+    pub withdraw_speed: f64,
 }
 
 impl Default for ProtectiveConfig {
@@ -71,6 +75,7 @@ impl Default for ProtectiveConfig {
             enabled: true,
             safety_distance: 0.01,
             reaction_time: 0.01,
+            withdraw_speed: 0.05,
         }
     }
 }
@@ -83,6 +88,7 @@ impl ProtectiveConfig {
     pub fn validate(&self) -> Result<(), FieldError> {
         non_negative("protective.safetyDistance", self.safety_distance)?;
         non_negative("protective.reactionTime", self.reaction_time)?;
+        crate::error::positive("protective.withdrawSpeed", self.withdraw_speed)?;
         Ok(())
     }
 
@@ -105,12 +111,17 @@ impl ProtectiveConfig {
 pub const BRAKING_MARGIN: f64 = 2.0;
 
 /// One bound `row · q̇ ≤ bound` on the approach of a pair.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Guard {
     /// `nᵀ J_θ` (one value per joint).
     pub row: Vec<f64>,
-    /// Largest approach speed (m/s).
+    /// Largest approach speed the arm may have and still stop in time
+    /// (m/s): the protective bound, hard.
     pub bound: f64,
+    /// The avoidance damper's bound (m/s; `+∞` without one): the
+    /// `constraints` avoidance asks for `min(bound, soft)` and falls back
+    /// to `bound` alone when both cannot be met.
+    pub soft: f64,
     /// Clearance of the pair (m).
     pub distance: f64,
     /// Approach speed of the obstacle itself (m/s).
@@ -119,6 +130,46 @@ pub struct Guard {
     pub segment: usize,
     /// Obstacle index (`None` for a self-collision pair).
     pub obstacle: Option<usize>,
+}
+
+impl Default for Guard {
+    fn default() -> Self {
+        Self {
+            row: Vec::new(),
+            bound: 0.0,
+            soft: f64::INFINITY,
+            distance: 0.0,
+            obstacle_speed: 0.0,
+            segment: 0,
+            obstacle: None,
+        }
+    }
+}
+
+/// The velocity damper of the `constraints` avoidance (Faverjon &
+/// Tournassoud; NEO's form): the arm may approach a pair at clearance `d`
+/// at most at `gain · (d − band) / (influence − band)` less the obstacle's
+/// own approach speed, and is pushed away (at most at `gain`) below the
+/// band or when the obstacle closes in faster than that.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Damper {
+    /// Approach speed allowed at the influence distance (m/s).
+    pub gain: f64,
+    /// Clearance below which the arm is pushed away (m).
+    pub band: f64,
+    /// Influence distance (m).
+    pub influence: f64,
+}
+
+impl Damper {
+    /// The damper's bound on the arm's approach speed (m/s).
+    #[must_use]
+    pub fn bound(&self, distance: f64, obstacle_speed: f64) -> f64 {
+        let span = (self.influence - self.band).max(1e-9);
+        let x = (distance - self.band) / span;
+        let b = self.gain * x - obstacle_speed.max(0.0) * (1.0 - x).min(1.0);
+        b.max(-self.gain)
+    }
 }
 
 /// One pair as the guards need it.
@@ -159,7 +210,10 @@ fn jacobian_at(
 ///
 /// `braking` is the joints' stopping time now; `floor` (e.g. 0 during a
 /// stop) is the lowest bound asked for: a stopping arm is not asked to
-/// retreat.
+/// retreat. A static or receding obstacle (and a self pair) never asks for
+/// a retreat faster than `withdraw_speed`: the arm backs out of an overlap
+/// at that speed instead of being asked the impossible. `damper` adds each
+/// pair's [`Damper`] bound as [`Guard::soft`].
 ///
 /// # Errors
 /// A pair whose segment is not in the skeleton (a bug).
@@ -172,6 +226,7 @@ pub fn guards(
     config: &ProtectiveConfig,
     braking: f64,
     floor: f64,
+    damper: Option<&Damper>,
     out: &mut Vec<Guard>,
 ) -> Result<(), FieldError> {
     out.clear();
@@ -186,22 +241,29 @@ pub fn guards(
                 *r -= p.normal.dot(*c);
             }
         }
-        let bound = config
-            .bound(p.distance, p.obstacle_speed, braking)
-            .max(floor);
+        let mut bound = config.bound(p.distance, p.obstacle_speed, braking);
+        if p.obstacle_speed <= 0.0 {
+            bound = bound.max(-config.withdraw_speed);
+        }
+        let bound = bound.max(floor);
+        let soft = damper.map_or(f64::INFINITY, |d| {
+            d.bound(p.distance, p.obstacle_speed).max(floor)
+        });
         // A guard the joints cannot reach within their speed limits can
-        // never be active: leave it out of the QP.
+        // never be active, and one no joint can act on cannot be helped:
+        // leave both out of the QP.
         let reach: f64 = row
             .iter()
             .zip(&robot.joints)
             .map(|(r, j)| r.abs() * j.max_velocity)
             .sum();
-        if bound >= reach {
+        if bound.min(soft) >= reach || reach <= 1e-9 {
             continue;
         }
         out.push(Guard {
             row,
             bound,
+            soft,
             distance: p.distance,
             obstacle_speed: p.obstacle_speed,
             segment: p.segment,
@@ -218,6 +280,40 @@ impl Guard {
     pub fn breached(&self, qdot: &[f64]) -> bool {
         let v = self.approach(qdot);
         v > 0.0 && v > self.bound + GUARD_TOLERANCE
+    }
+
+    /// Whether the arm can still get away from this guard's obstacle, and
+    /// the retreat to ask for: `Some(bound)` when the fastest retreat along
+    /// the row within the velocity box `lo..hi` outruns the obstacle (with
+    /// a 20 % margin) and the gap the arm loses while it turns its current
+    /// approach into that retreat — at half its acceleration limits along
+    /// the row, after `reaction_time` — is under 80 % of the room left
+    /// above the safety distance; `None` when no admissible escape keeps
+    /// the arm clear (the world then stops: contact at rest).
+    #[must_use]
+    pub fn escape(
+        &self,
+        robot: &Robot,
+        qdot: &[f64],
+        lo: &[f64],
+        hi: &[f64],
+        config: &ProtectiveConfig,
+    ) -> Option<f64> {
+        let mut speed = 0.0;
+        let mut accel = 0.0;
+        for (k, r) in self.row.iter().enumerate() {
+            let room = if *r > 0.0 { -lo[k] } else { hi[k] };
+            speed += r.abs() * room.max(0.0);
+            accel += 0.5 * r.abs() * robot.joints[k].max_acceleration;
+        }
+        let v_h = self.obstacle_speed.max(0.0);
+        if v_h >= 0.8 * speed || accel <= 0.0 {
+            return None;
+        }
+        let closing = (self.approach(qdot) + v_h).max(0.0);
+        let lost = closing * config.reaction_time + closing * closing / (2.0 * accel);
+        let room = self.distance - config.safety_distance;
+        (lost < 0.8 * room).then_some(self.bound.max(-0.9 * speed))
     }
 
     /// The pair's approach speed (m/s) with joint velocities `qdot`.

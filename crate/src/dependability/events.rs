@@ -105,6 +105,20 @@ pub enum EventKind {
         /// How much faster than allowed the pair closes in (m/s).
         excess: f64,
     },
+    /// At the start the arm overlaps something (its volume and an
+    /// obstacle's, or two of its own links): the deepest pair, named by the
+    /// robot's link names where it has them. A static or receding obstacle
+    /// is backed out of at `protective.withdrawSpeed`.
+    StartContact {
+        /// Obstacle concerned (`self:<link>` for two links of the arm).
+        obstacle: String,
+        /// The arm's link in the pair (its URDF name for an imported robot).
+        link: String,
+        /// Clearance of the pair (m, ≤ 0).
+        distance: f64,
+        /// Pairs overlapping at the start.
+        pairs: usize,
+    },
     /// A lock ended.
     Unlock {
         /// Obstacle concerned.

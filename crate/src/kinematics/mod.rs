@@ -24,7 +24,7 @@ use glam::{DAffine3, DQuat};
 pub use frames::Frames;
 pub use spec::{
     BranchSpec, Convention, DEFAULT_LIMITS, DEFAULT_RADIUS, Joint, JointSpec, JointType, Limits,
-    MAX_MAGNITUDE, MAX_RADIUS, PoseSpec, RadiusSpec, RobotSpec, UNIT_QUAT_TOLERANCE,
+    LinkRef, MAX_MAGNITUDE, MAX_RADIUS, PoseSpec, RadiusSpec, RobotSpec, UNIT_QUAT_TOLERANCE,
 };
 
 use crate::error::FieldError;
@@ -59,6 +59,11 @@ pub struct Robot {
     pub joints: Vec<Joint>,
     /// The main chain first, then the branches.
     pub chains: Vec<Chain>,
+    /// Link names, one per row (empty when the spec gives none).
+    pub link_names: Vec<String>,
+    /// Pairs of rows kept out of the self-collision query (the spec's
+    /// `selfCollisionExclude`, resolved).
+    pub exclude: Vec<(usize, usize)>,
 }
 
 impl Robot {
@@ -137,13 +142,95 @@ impl Robot {
         if let Some(names) = &spec.joint_names {
             check_joint_names(names, joints.len())?;
         }
-        Ok(Self {
+        if let Some(names) = &spec.link_names {
+            check_names("linkNames", names, joints.len())?;
+        }
+        let mut robot = Self {
             name: spec.name.clone().unwrap_or_default(),
             convention: spec.convention,
             base,
             joints,
             chains,
-        })
+            link_names: spec.link_names.clone().unwrap_or_default(),
+            exclude: Vec::new(),
+        };
+        robot.exclude = robot.link_pairs("selfCollisionExclude", &spec.self_collision_exclude)?;
+        Ok(robot)
+    }
+
+    /// The row of `link` (0 the base).
+    ///
+    /// # Errors
+    /// An index past the last row or a name not in `linkNames`, as
+    /// `field: …`.
+    pub fn link_index(&self, field: &str, link: &LinkRef) -> Result<usize, FieldError> {
+        match link {
+            LinkRef::Index(k) if *k <= self.dof() => Ok(*k),
+            LinkRef::Index(k) => Err(FieldError::new(
+                field,
+                format!("{k} is not a link of this robot (0 to {})", self.dof()),
+            )),
+            LinkRef::Name(name) => self
+                .link_names
+                .iter()
+                .position(|n| n == name)
+                .map(|k| k + 1)
+                .ok_or_else(|| {
+                    FieldError::new(
+                        field,
+                        if self.link_names.is_empty() {
+                            format!("no link named \"{name}\": this robot has no linkNames (use row indices)")
+                        } else {
+                            format!("no link named \"{name}\" (linkNames: {})", self.link_names.join(", "))
+                        },
+                    )
+                }),
+        }
+    }
+
+    /// Pairs of links resolved to rows; a pair listed twice or a link paired
+    /// with itself is refused.
+    ///
+    /// # Errors
+    /// `field[k][side]: …` for an unknown link, `field[k]: …` for a repeat.
+    pub fn link_pairs(
+        &self,
+        field: &str,
+        pairs: &[[LinkRef; 2]],
+    ) -> Result<Vec<(usize, usize)>, FieldError> {
+        let mut out: Vec<(usize, usize)> = Vec::with_capacity(pairs.len());
+        for (k, [a, b]) in pairs.iter().enumerate() {
+            let a = self.link_index(&format!("{field}[{k}][0]"), a)?;
+            let b = self.link_index(&format!("{field}[{k}][1]"), b)?;
+            if a == b {
+                return Err(FieldError::new(
+                    format!("{field}[{k}]"),
+                    "a link cannot be paired with itself",
+                ));
+            }
+            let pair = (a.min(b), a.max(b));
+            if let Some(first) = out.iter().position(|p| *p == pair) {
+                return Err(FieldError::new(
+                    format!("{field}[{k}]"),
+                    format!("the pair is listed twice (also {field}[{first}])"),
+                ));
+            }
+            out.push(pair);
+        }
+        Ok(out)
+    }
+
+    /// A link's name for messages: its `linkNames` entry, else `link k`.
+    #[must_use]
+    pub fn link_label(&self, link: usize) -> String {
+        match link {
+            0 => "base".to_owned(),
+            k => self
+                .link_names
+                .get(k - 1)
+                .cloned()
+                .unwrap_or_else(|| format!("link {k}")),
+        }
     }
 
     /// Number of joints (= rows = length of `q`).
@@ -276,19 +363,23 @@ impl Robot {
 /// Checks the optional `jointNames` of a spec: one non-empty, unique name per
 /// row.
 fn check_joint_names(names: &[String], dof: usize) -> Result<(), FieldError> {
+    check_names("jointNames", names, dof)
+}
+
+fn check_names(field: &str, names: &[String], dof: usize) -> Result<(), FieldError> {
     if names.len() != dof {
         return Err(FieldError::new(
-            "jointNames",
+            field,
             format!("expected {dof} names (one per joint), got {}", names.len()),
         ));
     }
     for (k, name) in names.iter().enumerate() {
         if name.is_empty() {
-            return Err(FieldError::new(format!("jointNames[{k}]"), "empty name"));
+            return Err(FieldError::new(format!("{field}[{k}]"), "empty name"));
         }
         if names[..k].contains(name) {
             return Err(FieldError::new(
-                format!("jointNames[{k}]"),
+                format!("{field}[{k}]"),
                 format!("\"{name}\" appears twice"),
             ));
         }

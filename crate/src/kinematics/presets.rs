@@ -105,6 +105,8 @@ fn spec(name: &str, convention: Convention, joints: Vec<JointSpec>) -> RobotSpec
         tool: None,
         branches: Vec::new(),
         joint_names: None,
+        link_names: None,
+        self_collision_exclude: Vec::new(),
     }
 }
 

@@ -159,6 +159,27 @@ pub struct RobotSpec {
     /// included), e.g. the URDF joint names of an imported robot.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub joint_names: Option<Vec<String>>,
+    /// Names of the links in the order of `q` (the link each row moves,
+    /// e.g. the URDF child link of each joint of an imported robot); what
+    /// `selfCollisionExclude` and the events name links by.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub link_names: Option<Vec<String>>,
+    /// Pairs of links that never repel each other (an SRDF's
+    /// `disable_collisions`, or the user's), each side a row index (1-based,
+    /// 0 the base) or a name from `linkNames`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub self_collision_exclude: Vec<[LinkRef; 2]>,
+}
+
+/// A link named by its row index (1-based, 0 the base) or, for a robot
+/// with `linkNames`, by its name.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum LinkRef {
+    /// Row index (1-based; 0 is the base).
+    Index(usize),
+    /// A name from the robot's `linkNames`.
+    Name(String),
 }
 
 /// The motion limits of one joint (SI: rad or m, per s, s², s³; N·m or N).

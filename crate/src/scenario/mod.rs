@@ -36,7 +36,7 @@ pub use obstacle::{
 pub(crate) use obstacle::{TimeOrder, check_timed_points};
 pub use sensing::SensingConfig;
 pub use task::{DhValues, TaskSpec, Tasks};
-pub use trace::{Sample, Trace, TracePoint};
+pub use trace::{MotionAudit, Sample, Trace, TracePoint, audit};
 
 /// Why a scenario (or an edit of a live world) was refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -268,6 +268,7 @@ pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), Fi
             ),
         ));
     }
+    robot.link_pairs("selfCollisionExclude", &c.self_collision_exclude)?;
     for (k, p) in c.pinned.iter().enumerate() {
         p.validate_reachable(robot)
             .map_err(|e| e.within(&format!("pinned[{k}]")))?;

@@ -15,7 +15,7 @@
 //! so holding it still needs the moving-point terms
 //! `θ̇ = J_θ^† (ṗ_d + K (p_d − p) − J_a ȧ − J_d ḋ)`.
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
 use super::{TimeOrder, check_timed_points, unit_quat};
@@ -43,7 +43,13 @@ pub struct DhValues {
     try_from = "super::tagged::TaskFields"
 )]
 pub enum TaskSpec {
-    /// Keep the main chain's end effector where it starts (default).
+    /// Keep the main chain's end effector where it starts (default): its
+    /// position, and with the `constraints` avoidance its orientation too
+    /// when the chain has six joints or more (a spatial arm that can; a
+    /// planar arm holds its position only). The paper's controllers
+    /// (`repulsion`, torque, `clik2`) hold the position, as in the paper:
+    /// a pose task in the null space of the avoidance rows leaves a 7-joint
+    /// arm none to avoid with.
     #[default]
     Hold,
     /// Reach `position` (m), and `orientation` (`[x, y, z, w]`) if given.
@@ -273,9 +279,10 @@ impl Tasks {
     }
 
     /// Where each task anchors at the start: the end effector of its chain
-    /// (hold), or its point's position (point tasks without `position`).
+    /// (hold: its position, and its orientation on a chain of six joints or
+    /// more), or its point's position (point tasks without `position`).
     #[must_use]
-    pub fn anchors(&self, robot: &Robot, frames: &Frames) -> Vec<DVec3> {
+    pub fn anchors(&self, robot: &Robot, frames: &Frames) -> Vec<(DVec3, Option<DQuat>)> {
         self.as_slice()
             .iter()
             .map(|t| match (t, t.point_at(0.0)) {
@@ -284,28 +291,36 @@ impl Tasks {
                         position: Some(p), ..
                     },
                     _,
-                ) => DVec3::from_array(*p),
-                (_, Some((dh, _))) => dh.position(robot, frames),
-                _ => frames
-                    .end_effectors
-                    .get(t.chain(robot))
-                    .map_or(DVec3::ZERO, |e| e.translation),
+                ) => (DVec3::from_array(*p), None),
+                (_, Some((dh, _))) => (dh.position(robot, frames), None),
+                _ => {
+                    let chain = t.chain(robot);
+                    let ee = frames.end_effectors.get(chain);
+                    let spatial = chain_joints(robot, chain) >= 6;
+                    (
+                        ee.map_or(DVec3::ZERO, |e| e.translation),
+                        ee.filter(|_| spatial && matches!(t, TaskSpec::Hold))
+                            .map(|e| DQuat::from_mat3(&e.matrix3)),
+                    )
+                }
             })
             .collect()
     }
 
     /// The references of every task at time `t` (`anchors` from
-    /// [`Tasks::anchors`]).
+    /// [`Tasks::anchors`]); a hold keeps its orientation only with
+    /// `hold_orientation` (the `constraints` avoidance).
     pub fn references(
         &self,
         robot: &Robot,
         t: f64,
-        anchors: &[DVec3],
+        anchors: &[(DVec3, Option<DQuat>)],
+        hold_orientation: bool,
         out: &mut Vec<TaskReference>,
     ) {
         out.clear();
         for (k, task) in self.as_slice().iter().enumerate() {
-            let anchor = anchors.get(k).copied().unwrap_or(DVec3::ZERO);
+            let (anchor, rotation) = anchors.get(k).copied().unwrap_or((DVec3::ZERO, None));
             let mut r = TaskReference {
                 position: anchor,
                 velocity: DVec3::ZERO,
@@ -315,7 +330,8 @@ impl Tasks {
                 point: task.point_at(t),
             };
             match task {
-                TaskSpec::Hold | TaskSpec::Point { .. } => {}
+                TaskSpec::Hold => r.orientation = rotation.filter(|_| hold_orientation),
+                TaskSpec::Point { .. } => {}
                 TaskSpec::Goal {
                     position,
                     orientation,
@@ -342,4 +358,19 @@ impl Tasks {
             out.push(r);
         }
     }
+}
+
+/// The joints that move chain `chain`'s end effector (its rows and every
+/// row it hangs from).
+fn chain_joints(robot: &Robot, chain: usize) -> usize {
+    let Some(c) = robot.chains.get(chain) else {
+        return 0;
+    };
+    let mut k = c.last;
+    let mut count = 0;
+    while k >= 1 && count <= robot.dof() {
+        count += 1;
+        k = robot.joints[k - 1].parent;
+    }
+    count
 }

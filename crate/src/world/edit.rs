@@ -141,6 +141,10 @@ impl World {
     /// unchanged.
     pub fn set_controller(&mut self, config: ControllerConfig) -> Result<(), ScenarioError> {
         validate_controller(&config, &self.robot).map_err(|e| e.within("controller"))?;
+        if config.self_collision_exclude != self.scenario.controller.self_collision_exclude {
+            self.adjacency = super::self_pairs_left_out(&self.robot, &config)
+                .map_err(|e| e.within("controller"))?;
+        }
         if config.selection != self.scenario.controller.selection
             || config.pinned != self.scenario.controller.pinned
         {

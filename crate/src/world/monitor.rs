@@ -162,3 +162,79 @@ pub(super) struct Approach<'a> {
     /// Whether it was already too slow at the last step.
     pub was_slow: bool,
 }
+
+/// Fraction of a joint's speed limit it must reach in one direction for
+/// a change of direction to count as a reversal of the command.
+pub const REVERSAL_SPEED: f64 = 0.1;
+
+/// Reversals of each joint's motion: a command that oscillates is caught
+/// like a chattering control point.
+#[derive(Clone, Debug, Default)]
+pub(super) struct CommandMonitor {
+    signs: Vec<f64>,
+    counters: Vec<crate::dependability::SwitchCounter>,
+    chattering: bool,
+}
+
+impl CommandMonitor {
+    /// Whether some joint's command oscillates now.
+    pub(super) fn chattering(&self) -> bool {
+        self.chattering
+    }
+}
+
+impl World {
+    /// The command monitor: each joint's direction of motion, reversed at
+    /// more than [`REVERSAL_SPEED`] of its speed limit, is counted over
+    /// `8 × switchWindow`; more than `2 × maxSwitches` reversals of one
+    /// joint there are a sustained oscillation (by default more than six
+    /// reversals in 4 s: three cycles of a period under about 1.3 s; an
+    /// avoidance that moves away and back, twice, is not one): a
+    /// `chattering` event naming the joint (`command:<joint>`) and a stop,
+    /// whatever the policy (a command cannot be locked).
+    pub(super) fn monitor_command(&mut self) {
+        let dep = self.scenario.dependability;
+        let window = 8.0 * dep.switch_window;
+        let n = self.motion.qdot.len();
+        let m = &mut self.command_monitor;
+        m.signs.resize(n, 0.0);
+        m.counters.resize_with(n, Default::default);
+        let mut worst = (0, 0);
+        for (k, (v, j)) in self.motion.qdot.iter().zip(&self.robot.joints).enumerate() {
+            let count = if v.abs() > REVERSAL_SPEED * j.max_velocity && v.signum() != m.signs[k] {
+                let reversal = m.signs[k] != 0.0;
+                m.signs[k] = v.signum();
+                if reversal {
+                    m.counters[k].record(self.t, window)
+                } else {
+                    m.counters[k].count(self.t, window)
+                }
+            } else {
+                m.counters[k].count(self.t, window)
+            };
+            if count > worst.1 {
+                worst = (k, count);
+            }
+        }
+        let chattering = worst.1 > 2 * dep.max_switches as usize;
+        let rising = chattering && !m.chattering;
+        m.chattering = chattering;
+        if rising {
+            let name = format!(
+                "command:{}",
+                self.robot
+                    .link_label(worst.0 + 1)
+                    .replace("link ", "joint ")
+            );
+            self.push(EventKind::Chattering {
+                obstacle: name.clone(),
+                switches: worst.1,
+            });
+            self.stop(
+                super::StopReason::Chattering,
+                format!("oscillating command ({name})"),
+                dep.lock_time,
+            );
+        }
+    }
+}

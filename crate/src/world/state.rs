@@ -137,7 +137,9 @@ pub struct WorldState {
     /// torque mode).
     pub command: Vec<f64>,
     /// Standard deviation of each joint's command from the sensing errors
-    /// (absent when every obstacle is sensed exactly).
+    /// (absent when every obstacle is sensed exactly, and with the
+    /// `constraints` avoidance, whose command is not a smooth function of
+    /// the sensed positions).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub command_sigma: Option<Vec<f64>>,
     /// Events (all so far, or since a cursor).

@@ -4,8 +4,8 @@
 use glam::DVec3;
 
 use super::{MAX_EVENTS, StopReason, World};
+use crate::avoidance::constraints::constrained_velocity;
 use crate::avoidance::limits::{self, braking_time, velocity_box};
-use crate::avoidance::protect::{self, GuardPair};
 use crate::avoidance::selection::{self, Key, fraction_on};
 use crate::avoidance::{self, ActivePoint, ControllerConfig, Mode};
 use crate::control_point::DhPoint;
@@ -19,10 +19,6 @@ use crate::transition::dh_motion;
 use super::monitor::Approach;
 use super::state::ControlPointState;
 use super::uncertainty::SigmaInput;
-
-/// Factor on the braking time when deciding that an obstacle outruns the
-/// arm's retreat (see [`World::protect`]).
-const OUTRUN_MARGIN: f64 = 1.5;
 
 /// Time constant of the low-pass filter on the closing speed used for the
 /// time to collision (s): long against the jitter of the sensed normal,
@@ -62,6 +58,9 @@ impl World {
         }
         // 2. scene query
         let pairs = self.scene_query(&cfg)?;
+        if self.t == 0.0 {
+            self.report_start_contact(&pairs);
+        }
         // 3. select
         let margins: Vec<f64> = self.obstacles.iter().map(|o| o.margin).collect();
         let selected = selection::select(&pairs, &self.owners, &margins, &self.skeleton, &cfg);
@@ -74,13 +73,15 @@ impl World {
         self.step_qdot.clone_from(&self.motion.qdot);
         self.step_q.clone_from(&self.q);
         self.step_dt = dt;
+        self.prepare_guards(&cfg, &pairs, dt)?;
         self.control(&cfg, &active, dt)?;
         self.active = active;
         // 7. protect
-        let all_hold = self.protect(&cfg, &pairs, dt)?;
+        let all_hold = self.protect(&cfg, dt);
         self.maybe_resume(all_hold);
-        // 8.–9. limit and integrate
+        // 8.–9. limit and integrate, then the command monitor
         self.limit_and_integrate(dt);
+        self.monitor_command();
         Ok(())
     }
 
@@ -328,11 +329,33 @@ impl World {
         dt: f64,
     ) -> Result<(), FieldError> {
         let mut refs = std::mem::take(&mut self.references);
-        self.scenario
-            .task
-            .references(&self.robot, self.t, &self.anchors, &mut refs);
+        self.scenario.task.references(
+            &self.robot,
+            self.t,
+            &self.anchors,
+            Self::uses_constraints(cfg),
+            &mut refs,
+        );
         self.references = refs;
-        self.request = self.request_for(cfg, active, &self.q, &self.motion.qdot, dt)?;
+        if Self::uses_constraints(cfg) {
+            let (lo, hi) = velocity_box(&self.robot, &self.q);
+            let mut out = std::mem::take(&mut self.request);
+            let outcome = constrained_velocity(
+                &self.robot,
+                &self.frames,
+                &self.references,
+                &self.guards,
+                &lo,
+                &hi,
+                cfg,
+                &mut self.qp,
+                &mut out,
+            )?;
+            self.relaxed = outcome.relaxed;
+            self.request = out;
+        } else {
+            self.request = self.request_for(cfg, active, &self.q, &self.motion.qdot, dt)?;
+        }
         if self.stopped {
             self.request.iter_mut().for_each(|v| *v = 0.0);
         }
@@ -340,7 +363,8 @@ impl World {
     }
 
     /// The controller's joint command for the active points `active` and
-    /// this step's task references.
+    /// this step's task references (the paper's repulsion; the
+    /// `constraints` avoidance is solved in [`World::control`]).
     pub(super) fn request_for(
         &self,
         cfg: &ControllerConfig,
@@ -360,150 +384,16 @@ impl World {
         })
     }
 
-    /// The pairs the protective layer guards: every pair within the
-    /// influence distance, obstacles as sensed (margin subtracted).
-    fn guard_pairs(&mut self, cfg: &ControllerConfig, pairs: &[PairDistance]) {
-        let mut out = std::mem::take(&mut self.guard_pairs);
-        out.clear();
-        for p in pairs {
-            let (distance, obstacle, other, speed, part) = match p.target {
-                Target::Obstacle { id, .. } => {
-                    let o = self.owners[id as usize];
-                    // The approaching part's own velocity at its witness.
-                    let v = self
-                        .part_motion
-                        .get(id as usize)
-                        .map_or(DVec3::ZERO, |m| m.velocity_at(p.point_other));
-                    (
-                        p.distance - self.obstacles[o].margin,
-                        Some(o),
-                        None,
-                        -p.normal.dot(v),
-                        Some(id as usize),
-                    )
-                }
-                Target::Segment(other) => {
-                    let u = fraction_on(&self.skeleton, other, p.point_other);
-                    (p.distance, None, Some((other, u)), 0.0, None)
-                }
-            };
-            if distance > cfg.influence_distance {
-                continue;
-            }
-            out.push(GuardPair {
-                segment: p.segment,
-                fraction: p.fraction,
-                other,
-                normal: p.normal,
-                distance,
-                obstacle_speed: speed,
-                obstacle,
-                part,
-            });
-        }
-        self.guard_pairs = out;
-    }
-
-    /// Stage 7: the protective layer. Projects the request onto the guards
-    /// and the admissible velocity box; an infeasible guard stops the arm
-    /// (`unavoidable`). Returns whether every guard holds with the arm at
-    /// rest (a stop after an unavoidable approach may then end).
-    fn protect(
-        &mut self,
-        cfg: &ControllerConfig,
-        pairs: &[PairDistance],
-        dt: f64,
-    ) -> Result<bool, FieldError> {
-        let p = cfg.protective;
-        if !p.enabled {
-            return Ok(true);
-        }
-        self.guard_pairs(cfg, pairs);
-        let braking = braking_time(&self.robot, &self.motion, dt);
-        let floor = if self.stopped { 0.0 } else { f64::NEG_INFINITY };
-        let mut guards = std::mem::take(&mut self.guards);
-        protect::guards(
-            &self.robot,
-            &self.frames,
-            &self.skeleton,
-            &self.guard_pairs,
-            &p,
-            braking,
-            floor,
-            &mut guards,
-        )?;
-        // Emergency brake: the arm already closes in faster than a guard
-        // allows (the limiter lags a sudden change of the guards).
-        self.braking = guards.iter().any(|g| g.breached(&self.motion.qdot));
-        if self.braking {
-            self.request.iter_mut().for_each(|v| *v = 0.0);
-        }
-        let all_hold = self
-            .guard_pairs
-            .iter()
-            .all(|g| p.bound(g.distance, g.obstacle_speed, braking) >= 0.0);
-        // Time to collision shorter than a transition plus braking: the
-        // approach to that obstacle is slowed (retreat is left free).
-        for g in &mut guards {
-            if let Some(o) = g.obstacle
-                && g.bound > 0.0
-            {
-                g.bound *= self.slowdown.get(o).copied().unwrap_or(1.0);
-            }
-        }
-        let (lo, hi) = velocity_box(&self.robot, &self.q);
-        let weights = cfg.joint_weights.as_deref().unwrap_or(&[]);
-        let mut out = Vec::with_capacity(self.request.len());
-        let result = protect::project(&self.request, weights, &lo, &hi, &guards, &mut out);
-        self.request = out;
-        // Unavoidable: the guards cannot all be met, or an obstacle closes in
-        // so fast that its guard asks for a retreat the arm is not making:
-        // stop now, so that the arm is at rest when contact begins.
-        // (with the braking time stretched by OUTRUN_MARGIN: the decision
-        // must come while a stop still ends before the obstacle arrives).
-        let outrun = guards.iter().enumerate().find_map(|(k, g)| {
-            let approach = g.approach(&self.motion.qdot);
-            let gaining = g.obstacle_speed > 0.0 && approach + g.obstacle_speed > 0.0;
-            let late = p.bound(g.distance, g.obstacle_speed, OUTRUN_MARGIN * braking);
-            (gaining && late < 0.0 && approach > late).then_some((k, approach - late))
-        });
-        let doomed = result.worst.map(|k| (k, result.violation)).or(outrun);
-        let mut now = std::collections::BTreeSet::new();
-        if let Some((k, excess)) = doomed.filter(|_| !self.stopped) {
-            let g = &guards[k];
-            let key = g.obstacle.unwrap_or(usize::MAX);
-            now.insert(key);
-            if !self.unavoidable.contains(&key) {
-                let obstacle = g.obstacle.map_or_else(
-                    || format!("self:{}", self.skeleton.segments[g.segment].link),
-                    |o| self.obstacles[o].spec.id.clone(),
-                );
-                self.push(EventKind::Unavoidable {
-                    obstacle: obstacle.clone(),
-                    segment: g.segment,
-                    distance: g.distance,
-                    excess,
-                });
-                let hold = self.scenario.dependability.lock_time;
-                self.stop(
-                    StopReason::Unavoidable,
-                    format!("unavoidable approach ({obstacle})"),
-                    hold,
-                );
-                self.request.iter_mut().for_each(|v| *v = 0.0);
-            }
-        }
-        self.unavoidable = now;
-        self.guards = guards;
-        Ok(all_hold)
-    }
-
     /// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`.
     fn limit_and_integrate(&mut self, dt: f64) {
         self.step_t = self.t;
         // A chattering stop decelerates gently (`maxDeceleration`); a stop
-        // before an unavoidable contact and the emergency brake use every
-        // joint's full deceleration.
+        // before an unavoidable contact and the emergency brake use the
+        // full deceleration of the slowest joint. Every stop is
+        // synchronised: the joint velocities shrink along one line to zero,
+        // so every pair's approach speed shrinks with them (joints braked
+        // each at its own rate can turn a motion along an obstacle into one
+        // towards it: measured on the PR2 reach problems).
         let urgent = self.braking || self.stop_reason == Some(StopReason::Unavoidable);
         let options = limits::StepOptions {
             max_acceleration: if self.stopped && !urgent {
@@ -511,7 +401,7 @@ impl World {
             } else {
                 f64::INFINITY
             },
-            synchronise: !urgent,
+            synchronise: true,
         };
         limits::step_with(
             &self.robot,

@@ -257,15 +257,19 @@ impl World {
     }
 
     /// Ends a stop once its time is over, nothing chatters, and (after an
-    /// unavoidable approach) every guard holds with the arm at rest.
+    /// unavoidable approach) the joints are at rest and the guard of every
+    /// approaching obstacle holds: the hold lasts as long as the situation
+    /// that caused it.
     pub(super) fn maybe_resume(&mut self, all_guards_hold: bool) {
         if !self.stopped || self.t < self.stopped_until {
             return;
         }
-        if self.trackers.values().any(|tr| tr.chattering) {
+        if self.trackers.values().any(|tr| tr.chattering) || self.command_monitor.chattering() {
             return;
         }
-        if self.stop_reason == Some(StopReason::Unavoidable) && !all_guards_hold {
+        if self.stop_reason == Some(StopReason::Unavoidable)
+            && !(all_guards_hold && self.motion.is_at_rest())
+        {
             return;
         }
         self.stopped = false;

@@ -326,12 +326,18 @@ impl World {
     /// Standard deviation of each joint's command: the controller run again
     /// with each noisy obstacle moved by `±h` along each axis (its control
     /// points' clearances and normals from their probes), the obstacles'
-    /// errors independent of each other.
+    /// errors independent of each other. Only for the paper's repulsion,
+    /// whose command is a smooth function of the control points; the
+    /// `constraints` avoidance's command is piecewise (a row binds or it
+    /// does not) and is not propagated (`None`).
     fn command_sigma(
         &self,
         cfg: &ControllerConfig,
         probes: &[Option<Probes>],
     ) -> Result<Option<Vec<f64>>, FieldError> {
+        if Self::uses_constraints(cfg) {
+            return Ok(None);
+        }
         let active = &self.active;
         let mut owners: Vec<usize> = probes.iter().flatten().map(|p| p.owner).collect();
         owners.sort_unstable();

@@ -42,7 +42,7 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 use serde::Deserialize;
 use urdf_rs::{Geometry, JointType as UrdfJointType};
 
-use super::{Convention, JointSpec, JointType, PoseSpec, RadiusSpec, Robot, RobotSpec};
+use super::{Convention, JointSpec, JointType, LinkRef, PoseSpec, RadiusSpec, Robot, RobotSpec};
 use crate::error::FieldError;
 use crate::math;
 
@@ -59,6 +59,11 @@ pub struct UrdfOptions {
     /// root link.
     #[serde(default)]
     pub base: Option<String>,
+    /// An SRDF document (MoveIt's semantic description): its
+    /// `disable_collisions` pairs between links of the chain become the
+    /// spec's `selfCollisionExclude`.
+    #[serde(default)]
+    pub srdf: Option<String>,
 }
 
 /// A robot spec in standard DH from a URDF document.
@@ -111,7 +116,62 @@ pub fn robot_from_urdf(xml: &str, options: &UrdfOptions) -> Result<RobotSpec, Fi
             ),
         ));
     }
-    chain.into_spec(&urdf.name)
+    chain.into_spec(&urdf.name, options.srdf.as_deref())
+}
+
+/// The `disable_collisions` pairs of an SRDF document between links of the
+/// chain, as rows (`rows`: link → row). Pairs naming links outside the
+/// chain, or two links moved by the same row, change nothing and are left
+/// out; a pair listed twice is kept once.
+///
+/// # Errors
+/// `srdf: …` for a document that is not well-formed XML or an element
+/// without `link1` / `link2`.
+fn srdf_pairs(
+    srdf: Option<&str>,
+    rows: &[(String, usize)],
+) -> Result<Vec<[LinkRef; 2]>, FieldError> {
+    use quick_xml::events::Event;
+    let Some(xml) = srdf else {
+        return Ok(Vec::new());
+    };
+    let row = |name: &str| rows.iter().find(|(l, _)| l == name).map(|(_, r)| *r);
+    let mut reader = quick_xml::Reader::from_str(xml);
+    let mut out: Vec<[LinkRef; 2]> = Vec::new();
+    loop {
+        let event = reader
+            .read_event()
+            .map_err(|e| FieldError::new("srdf", format!("not well-formed XML: {e}")))?;
+        let element = match &event {
+            Event::Start(e) | Event::Empty(e) if e.name().as_ref() == b"disable_collisions" => e,
+            Event::Eof => break,
+            _ => continue,
+        };
+        let link = |key: &[u8]| -> Result<String, FieldError> {
+            element
+                .try_get_attribute(key)
+                .ok()
+                .flatten()
+                .and_then(|a| a.unescape_value().ok().map(|v| v.into_owned()))
+                .ok_or_else(|| {
+                    FieldError::new(
+                        "srdf",
+                        format!(
+                            "a disable_collisions element without {}",
+                            String::from_utf8_lossy(key)
+                        ),
+                    )
+                })
+        };
+        let (a, b) = (link(b"link1")?, link(b"link2")?);
+        if let (Some(a), Some(b)) = (row(&a), row(&b)) {
+            let pair = [LinkRef::Index(a.min(b)), LinkRef::Index(a.max(b))];
+            if a != b && !out.contains(&pair) {
+                out.push(pair);
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// The links and joints of a URDF as a tree.
@@ -280,6 +340,10 @@ struct Chain {
     axes: Vec<dh::AxisLine>,
     joints: Vec<JointSpec>,
     names: Vec<String>,
+    /// The child link of each moving joint.
+    links: Vec<String>,
+    /// Every link of the path and the row that moves it (0: the base).
+    rows: Vec<(String, usize)>,
     tip: DAffine3,
 }
 
@@ -321,8 +385,13 @@ impl Chain {
             axes: Vec::new(),
             joints: Vec::new(),
             names: Vec::new(),
+            links: Vec::new(),
+            rows: Vec::new(),
             tip: DAffine3::IDENTITY,
         };
+        if let Some(&k) = path.first() {
+            chain.rows.push((urdf.joints[k].parent.link.clone(), 0));
+        }
         for &k in path {
             let j = &urdf.joints[k];
             chain.tip *= origin(j)?;
@@ -362,7 +431,9 @@ impl Chain {
                 });
                 chain.joints.push(limits(j, kind)?);
                 chain.names.push(j.name.clone());
+                chain.links.push(j.child.link.clone());
             }
+            chain.rows.push((j.child.link.clone(), chain.joints.len()));
             if let (Some(row), Some(link)) =
                 (chain.joints.last_mut(), links.get(j.child.link.as_str()))
             {
@@ -372,7 +443,7 @@ impl Chain {
         Ok(chain)
     }
 
-    fn into_spec(self, name: &str) -> Result<RobotSpec, FieldError> {
+    fn into_spec(self, name: &str, srdf: Option<&str>) -> Result<RobotSpec, FieldError> {
         let table = dh::dh_chain(&self.axes, &self.tip);
         let mut joints = self.joints;
         for (spec, row) in joints.iter_mut().zip(&table.rows) {
@@ -389,6 +460,8 @@ impl Chain {
             tool: None,
             branches: Vec::new(),
             joint_names: Some(self.names),
+            link_names: Some(self.links),
+            self_collision_exclude: srdf_pairs(srdf, &self.rows)?,
         };
         // The tool from the frame the library's own forward kinematics puts
         // at the end of the table, so that the two agree at q = 0 to rounding.
