@@ -73,7 +73,14 @@ export interface RobotSpec {
   branches?: BranchSpec[];
   /** One unique name per joint, in the order of `q`. */
   jointNames?: string[];
+  /** One unique name per link (the link each row moves), in the order of `q`. */
+  linkNames?: string[];
+  /** Pairs of links that never repel each other (an SRDF's `disable_collisions`). */
+  selfCollisionExclude?: [LinkRef, LinkRef][];
 }
+
+/** A link by row index (1-based, 0 the base) or by a name from `linkNames`. */
+export type LinkRef = number | string;
 
 /** A spec, `{ preset }` or a preset name. */
 export type RobotInput = RobotSpec | { preset: PresetName } | PresetName;
@@ -83,6 +90,8 @@ export interface UrdfOptions {
   tip?: string;
   /** Link the chain starts at (the world frame); default: the root link. */
   base?: string;
+  /** An SRDF document: its `disable_collisions` pairs become `selfCollisionExclude`. */
+  srdf?: string;
 }
 
 export interface ForwardKinematics {
@@ -233,6 +242,12 @@ export type Task =
 
 export interface Controller {
   mode?: 'velocity' | 'torque' | 'clik2';
+  /** Velocity mode: one-sided constraints in one QP with the tasks (default) or the paper's repulsion. */
+  avoidance?: 'constraints' | 'repulsion';
+  /** Clearance below which the constraints avoidance pushes the arm away (m; default 0.02, < influenceDistance). */
+  safetyBand?: number;
+  /** Further pairs of links left out of the self-collision query. */
+  selfCollisionExclude?: [LinkRef, LinkRef][];
   selection?: 'pairs' | 'perObstacle' | 'pinned';
   pinned?: DhPoint[];
   influenceDistance?: number;
@@ -251,7 +266,7 @@ export interface Controller {
   /** Whether a point task subtracts its point's own sliding (eq. 4; default true). */
   movingPointTerms?: boolean;
   /** The protective layer beneath the repulsion. */
-  protective?: { enabled?: boolean; safetyDistance?: number; reactionTime?: number };
+  protective?: { enabled?: boolean; safetyDistance?: number; reactionTime?: number; withdrawSpeed?: number };
 }
 
 /** Sensing model of one obstacle (docs/scenarios.md, Sensing); every field ≥ 0, absent = 0. */
@@ -364,6 +379,7 @@ export type EventKind =
   | 'unlock'
   | 'transitionTooSlow'
   | 'unavoidable'
+  | 'startContact'
   | (string & {});
 
 /** `{ t, kind }` and the fields of its kind (docs/scenarios.md). */

@@ -8,6 +8,9 @@
 //
 //   npm run bench [-- --tables]   (--tables skips the criterion runs)
 //   npm run bench -- --frames     (only the frame-rate table)
+//   npm run bench -- --reach      (only the reach benchmark: NEO's 198 PR2
+//                                  problems and 100 random Panda problems,
+//                                  `cargo run --release --example reach`)
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -26,6 +29,10 @@ const benches = fs
 // --tables: only the native/wasm tables, without the full criterion runs.
 const quick = process.argv.includes('--tables');
 if (!ensureTools({ browser: true })) process.exit(1);
+if (process.argv.includes('--reach')) {
+  console.log('\n=== reach benchmark (crate/examples/reach.rs; success: within 1 cm and 2° in 10 s, within every limit, no contact while moving)');
+  process.exit(run('cargo', ['run', '--release', '-q', '-p', 'skeleton-avoidance', '--example', 'reach']));
+}
 if (process.argv.includes('--frames')) {
   const ok = await frameTable(exampleNames());
   process.exit(ok ? 0 : 1);

@@ -8,10 +8,12 @@ import { createRequire } from 'node:module';
 const require = createRequire(import.meta.url);
 const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
 
-/** The `chattering` example shortened to 0.4 s (a noisy sphere between two links). */
+/** The `chattering` example shortened to 0.4 s (a noisy sphere between two
+ * links), with the paper's repulsion, whose command follows the noise. */
 function noisy(duration = 0.4) {
   const s = sa.exampleScenario('chattering');
   s.duration = duration;
+  s.controller.avoidance = 'repulsion';
   return s;
 }
 

@@ -222,7 +222,14 @@ test('benchControlStep runs 1 kHz steps of lwr4 among obstacles', () => {
 });
 
 test('a noisy obstacle reports propagated deviations, a command and a switch probability', () => {
-  const world = new sa.World(sa.exampleScenario('chattering'));
+  // The constraints avoidance (default) does not propagate its command.
+  const plain = new sa.World(sa.exampleScenario('chattering'));
+  plain.advance(0.001, 5);
+  assert.equal(plain.state().commandSigma, undefined);
+  plain.free();
+  const paper = sa.exampleScenario('chattering');
+  paper.controller.avoidance = 'repulsion';
+  const world = new sa.World(paper);
   world.advance(0.001, 5);
   const s = world.state();
   assert.equal(s.command.length, s.q.length);

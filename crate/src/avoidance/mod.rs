@@ -178,7 +178,7 @@ pub struct ControllerConfig {
     /// Gains of `clik2` mode.
     pub clik2: Clik2Gains,
     /// Clearance below which the `constraints` avoidance pushes the arm
-    /// away (m, ≥ 0 and < `influenceDistance`; default 0.05). Between it and
+    /// away (m, ≥ 0 and < `influenceDistance`; default 0.02). Between it and
     /// the influence distance a pair may only be approached at the damper's
     /// speed, `maxRepulsionSpeed · (d − band) / (ρ₀ − band)`, less the
     /// obstacle's own approach speed.

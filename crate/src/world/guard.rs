@@ -6,7 +6,7 @@
 //! the influence distance with its protective bound, its damper (in the
 //! `constraints` avoidance) and, for an obstacle closing in faster than
 //! the arm could stop, the escape the joints can still make
-//! ([`Guard::escape`](crate::avoidance::protect::Guard::escape)). After the controller, [`World::protect`] projects
+//! ([`crate::avoidance::protect::Guard::escape`]). After the controller, [`World::protect`] projects
 //! the request onto the protective bounds (a no-op for the `constraints`
 //! avoidance, whose request already meets them) and stops the arm when no
 //! admissible motion keeps a pair safe.
@@ -32,8 +32,9 @@ impl World {
 
     /// The pairs the protective layer guards: every pair within the
     /// influence distance, obstacles as sensed (margin subtracted). A
-    /// segment–obstacle pair is guarded at its witness and at both ends of
-    /// the segment: where a segment runs nearly parallel to a face, its
+    /// segment–obstacle pair is guarded at its witness and, unless the
+    /// obstacle is a point or a sphere, at both ends of the segment: where
+    /// a segment runs nearly parallel to a face or an edge, its
     /// witness can jump from one end to the other between two steps, onto
     /// a point that moves differently; guarding the ends bounds that point
     /// before the jump (measured on the PR2 reach problems).
@@ -126,6 +127,11 @@ impl World {
         let Some(shape) = self.scene.obstacles().get(part).map(|x| &x.shape) else {
             return;
         };
+        // Against a point or a sphere the clearance along a segment has one
+        // minimum that moves continuously: its witness never jumps.
+        if matches!(shape, Primitive::Point(_) | Primitive::Sphere(_)) {
+            return;
+        }
         let seg = &self.skeleton.segments[p.segment];
         let (a, b) = self.skeleton.endpoints(seg);
         for (t, end) in [(0.0, a), (1.0, b)] {
@@ -242,7 +248,7 @@ impl World {
         let result = protect::project(&self.request, weights, &lo, &hi, &guards, &mut out);
         self.request = out;
         // A guard the joints cannot meet right now is no reason to stop
-        // while the arm can still outrun its obstacle ([`Guard::escape`](crate::avoidance::protect::Guard::escape)):
+        // while the arm can still outrun its obstacle ([`crate::avoidance::protect::Guard::escape`]):
         // the request is the closest admissible retreat.
         let infeasible = result
             .worst
