@@ -75,11 +75,17 @@ pub fn is_planar(frames: &[DAffine3]) -> bool {
 /// point of every bounded obstacle part the robot can reach (within the
 /// reach ball). Infinite planes and parts out of reach (a large floor's
 /// centre, a person walking in from afar) are left out so that the robot
-/// stays large on screen.
+/// stays large on screen; a person whose pelvis (the first part) is out of
+/// reach is left out whole, even when a hand reaches into the ball.
 #[must_use]
 pub fn fit_points(state: &DrawState, reach: &Reach) -> Vec<[f64; 3]> {
     let mut points = state.skeleton.nodes.clone();
-    let parts = state.obstacles.iter().flat_map(|o| &o.parts);
+    let within = |p: &PrimitiveSpec| p.reference_point().distance(reach.center) <= reach.radius;
+    let parts = state
+        .obstacles
+        .iter()
+        .filter(|o| !o.human || o.parts.first().is_some_and(within))
+        .flat_map(|o| &o.parts);
     for part in parts {
         if matches!(part, PrimitiveSpec::Plane(_)) {
             continue;
