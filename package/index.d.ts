@@ -238,12 +238,46 @@ export type Primitive =
   | { type: 'box'; center: Vec3; halfExtents: Vec3; rotation?: Quat | undefined }
   | { type: 'convexHull'; points: Vec3[] };
 
+/** Joint angles of a human (rad), any subset; docs/scenarios.md lists the names and ranges. */
+export type HumanPose = Partial<Record<
+  | 'spineFlexion' | 'spineLateral' | 'spineTwist' | 'neckFlexion' | 'neckTwist'
+  | 'leftShoulderFlexion' | 'leftShoulderAbduction' | 'leftShoulderRotation' | 'leftElbow'
+  | 'rightShoulderFlexion' | 'rightShoulderAbduction' | 'rightShoulderRotation' | 'rightElbow'
+  | 'leftHipFlexion' | 'leftHipAbduction' | 'leftKnee'
+  | 'rightHipFlexion' | 'rightHipAbduction' | 'rightKnee',
+  number
+>>;
+
+export interface HumanKeyframe {
+  /** s */
+  t: number;
+  pose?: HumanPose;
+  /** Root displacement in the body's frame: forward, left, up (m). */
+  shift?: Vec3;
+}
+
+/** Keyframes, or a motion of the library with its parameters. */
+export interface HumanAnimation {
+  keyframes?: HumanKeyframe[];
+  loop?: boolean;
+  clip?: 'reach' | 'wave' | 'walk' | 'bend' | 'stepBack';
+  /** `reach`: the point the hand reaches for (m). */
+  target?: Vec3;
+  side?: 'left' | 'right';
+  /** m/s: the hand's peak speed (`reach`) or the walking speed (`walk`). */
+  speed?: number;
+  /** s */
+  start?: number;
+}
+
 export interface Human {
   type: 'human';
   position: Vec3;
   heading?: number | undefined;
   height?: number | undefined;
   reach?: number | undefined;
+  pose?: HumanPose | undefined;
+  animation?: HumanAnimation | undefined;
 }
 
 export type Shape = Primitive | Human;
@@ -468,6 +502,8 @@ export interface Trace {
 
 export interface StateControlPoint extends TraceControlPoint {
   witness: Vec3;
+  /** The human part it answers, `id:part` (`person:rightHand`); absent for other obstacles. */
+  part?: string;
   /** m/s (velocity, clik2) or N (torque). */
   repulsion: Vec3;
   transitioning: boolean;
@@ -482,6 +518,8 @@ export interface WorldState {
   qdot: number[];
   qddot: number[];
   minClearance: number | null;
+  /** The human part at `minClearance`, `id:part`; absent when that pair is not a human's. */
+  closestPart?: string;
   skeleton: { nodes: Vec3[]; segments: SkeletonSegment[] };
   obstacles: { id: string; shape: Shape; parts: Primitive[] }[];
   controlPoints: StateControlPoint[];
@@ -498,6 +536,8 @@ export interface WorldState {
 
 export interface PickResult {
   id: string;
+  /** The human part hit (`rightHand`); absent for other obstacles. */
+  part?: string;
   point: Vec3;
   distance: number;
 }
@@ -603,6 +643,33 @@ export function distance(a: Primitive, b: Primitive): DistanceResult;
 export function referencePoint(shape: Shape): Vec3;
 /** The figure moved by `delta` (m), in the form it was given. */
 export function translateShape<S extends Shape>(shape: S, delta: Vec3): S;
+/** The human with its `side` hand moved by `delta` (m) from rest: only that arm changes; the animation is dropped. */
+export function moveHumanHand(shape: Human, side: 'left' | 'right', delta: Vec3): Human;
+
+export interface TrackOptions {
+  format?: 'json' | 'csv';
+  layout?: 'coco17' | 'body25' | 'kinect32';
+  /** m; default estimated from the limbs. */
+  height?: number;
+  /** Time constant of the zero-phase jitter filter (s, default 0.03; 0: off). */
+  smoothing?: number;
+  /** Longest gap filled by interpolation (s, default 0.5). */
+  maxGap?: number;
+}
+
+export interface TrackReport {
+  layout: string;
+  frames: number;
+  duration: number;
+  height: number;
+  /** Keypoint positions filled in (interpolated or held). */
+  filled: number;
+  /** Joint angles clamped into the body's range. */
+  clamped: number;
+}
+
+/** A recorded keypoint track (JSON or CSV text) as a human that replays it; changes nothing by itself. */
+export function importTrack(text: string, options?: TrackOptions): { shape: Human; report: TrackReport };
 export function simulate(scenario: Scenario): Trace;
 export function exampleScenario(name: string): Scenario;
 export function exampleScenarioNames(): string[];

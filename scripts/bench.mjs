@@ -118,8 +118,11 @@ table(
 table(
   'full control step: lwr4 among N spheres (FK, skeleton, scene query, control points, transitions, Jacobians, controller)',
   'control_step',
-  () => Object.fromEntries([[10, 500], [100, 500], [1000, 100]].map(([n, batch]) =>
-    [`control_step/lwr4/${n}`, wasmMedian((k) => sa.benchControlStep(k, n), batch, 9)])),
+  () => Object.fromEntries([
+    ...[[10, 500], [100, 500], [1000, 100]].map(([n, batch]) =>
+      [`control_step/lwr4/${n}`, wasmMedian((k) => sa.benchControlStep(k, n), batch, 9)]),
+    ['control_step/lwr4/human+10', wasmMedian((k) => sa.benchControlStep(k, 10, true), 500, 9)],
+  ]),
   {
     'control_step/lwr4/10': 'native ≤ 10 µs, wasm/native ≤ 1.5',
     'control_step/lwr4/100': 'native ≤ 50 µs, wasm/native ≤ 1.5',

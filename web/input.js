@@ -5,7 +5,7 @@
 // says so otherwise; on touch screens vertical swipes scroll the page
 // (`touch-action: pan-y`), horizontal drags orbit, two fingers pinch-zoom
 // and pan. A double click (or F) frames the scene.
-import { PALETTE, add, dot, len, mul, rotateShape, scaleShape, sub, translateShape } from './shapes.js';
+import { PALETTE, add, dot, len, moveHumanHand, mul, rotateShape, scaleShape, sub, translateShape } from './shapes.js';
 
 
 /** Canvas pixel (drawing buffer) of a pointer event. */
@@ -35,8 +35,24 @@ function obstacleDrag(pg, px, hit, e) {
     y: px[1], mpp: a && b ? len(sub(a, b)) : 0.002, moved: false, along: e.altKey };
 }
 
+/** The hand a pick on a human's hand or forearm grabs (`left` / `right`), if any. */
+function grabbedHand(hit) {
+  const m = /^(left|right)(Hand|Forearm)$/.exec(hit.part ?? '');
+  return m ? m[1] : null;
+}
+
 function moveObstacle(pg, drag, e) {
   const px = pixel(pg.canvas, e);
+  if (drag.hand) {
+    // A hand follows the pointer on the plane facing the camera; only its
+    // arm moves (the library solves the arm), the rest of the body stays.
+    const p = onPlane(pg.viewer, px, drag.start, drag.n);
+    if (!p) return true;
+    const moved = pg.guard(() => moveHumanHand(drag.shape, drag.hand, sub(p, drag.start)));
+    if (!moved) return true;
+    drag.moved = true;
+    return pg.setShape(drag.id, moved);
+  }
   let delta;
   if (e.altKey || e.ctrlKey || e.metaKey) {
     delta = mul(drag.n, (px[1] - drag.y) * drag.mpp);
@@ -88,6 +104,8 @@ export function wireInput(pg) {
       if (hit) {
         pg.select(hit.id);
         drag = obstacleDrag(pg, px, hit, e);
+        const hand = grabbedHand(hit);
+        if (hand && !e.altKey) Object.assign(drag, { hand, start: drag.point });
         return;
       }
     }

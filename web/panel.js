@@ -6,7 +6,7 @@
 // bounds) and refused with the reason; the robot is applied only when the
 // library accepts it.
 import { h } from './dom.js';
-import { PALETTE, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
+import { HUMAN_MOTIONS, PALETTE, rotateShape, scaleShape, shapeCenter, translateShape } from './shapes.js';
 import { downloadScenario } from './scenario-io.js';
 import { buildDependability, refreshDependability } from './dependability.js';
 
@@ -330,6 +330,35 @@ export function refreshSelected(pg) {
     h('div', { class: 'row' }, 'size', btn('−', 'shrink', (s) => scaleShape(s, 0.8)), btn('+', 'grow', (s) => scaleShape(s, 1.25)),
       'rotate z', btn('⟲', 'rotate +15° about z', (s) => rotateShape(s, z, Math.PI / 12)), btn('⟳', 'rotate −15° about z', (s) => rotateShape(s, z, -Math.PI / 12)),
       'x', btn('⟲', 'rotate +15° about x', (s) => rotateShape(s, x, Math.PI / 12))),
+    ...(shape.type === 'human' ? humanRows(pg) : []),
     h('pre', { class: 'hint', id: 'shape-json', style: 'white-space: pre-wrap; margin: 0.2rem 0;' }, JSON.stringify(shape, (k, v) => (typeof v === 'number' ? Number(v.toFixed(4)) : v))),
   );
+}
+
+/** The selected human's motion (the library's clips) and a keypoint track to replay. */
+function humanRows(pg) {
+  const shape = pg.shapeOf(pg.selected);
+  const current = shape?.animation?.clip ?? (shape?.animation?.keyframes ? 'keyframes' : 'none');
+  const options = ['none', ...HUMAN_MOTIONS, ...(current === 'keyframes' ? ['keyframes'] : [])];
+  const motion = h('select', { id: 'human-motion', 'aria-label': 'human motion',
+    onchange: (e) => pg.editSelected((s) => withMotion(pg, s, e.target.value)) },
+  options.map((m) => h('option', { value: m, selected: m === current }, m)));
+  const track = h('input', { type: 'file', id: 'human-track', accept: '.json,.csv,application/json,text/csv', 'aria-label': 'open a keypoint track',
+    onchange: (e) => pg.openTrack(e.target.files?.[0]) });
+  return [
+    h('div', { class: 'row' }, 'motion', motion),
+    h('div', { class: 'row' }, h('label', { for: 'human-track' }, 'keypoint track (COCO-17, BODY-25, Kinect 32; JSON or CSV)'), track),
+    h('p', { class: 'hint' }, 'Drag a hand to move only its arm; drag the body to move the person.'),
+  ];
+}
+
+/** `shape` with motion `name` of the library (a reach goes for the arm's tool). */
+function withMotion(pg, shape, name) {
+  const out = { ...shape };
+  delete out.animation;
+  if (name === 'none' || name === 'keyframes') return name === 'keyframes' ? shape : out;
+  const nodes = pg.state?.skeleton?.nodes ?? [];
+  const tool = nodes[nodes.length - 1] ?? [0.4, 0, 0.5];
+  out.animation = { clip: name, start: pg.state?.t ?? 0, ...(name === 'reach' ? { target: tool, speed: 1.5 } : {}) };
+  return out;
 }

@@ -107,6 +107,14 @@ export class TimePlot {
     this.now = Math.max(this.now, t);
   }
 
+  /** Shows `text` in the legend for line `name` (e.g. which part of a human is closest). */
+  label(name, text) {
+    const s = this.series.get(name);
+    if (!s || s.label === text) return;
+    s.label = text;
+    s.key.lastChild.textContent = text;
+  }
+
   legendKey(name, s) {
     const key = el('button', 'key');
     key.type = 'button';

@@ -23,6 +23,8 @@ export const readoutMethods = {
       const k = (seen.get(cp.obstacle) ?? 0) + 1;
       seen.set(cp.obstacle, k);
       this.plots.clearance.push(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, t, cp.distance, { sigma: cp.sigma?.distance });
+      // A human's line carries the name of its closest part (the legend shows the latest).
+      if (cp.part) this.plots.clearance.label(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, `${cp.obstacle}: ${cp.part.split(':').pop()}`);
     }
     // Fig. 5: the DH table of the control point's shorter manipulator (the
     // library's `table`), main-chain rows; the `d` rows only for robots
@@ -79,14 +81,14 @@ export function hudLines(s, running, influence) {
   if (Number.isFinite(ttc)) ttcText = ttc > 10 ? '> 10 s' : `${ttc.toFixed(2)} s`;
   const lines = [
     `t ${s.t.toFixed(3)} s${s.stopped ? '  STOPPED' : running ? '' : '  paused'}`,
-    `min clearance ${Number.isFinite(s.minClearance) ? ms(s.minClearance) : `> ${ms(influence)} (influence)`}`,
+    `min clearance ${Number.isFinite(s.minClearance) ? ms(s.minClearance) : `> ${ms(influence)} (influence)`}${s.closestPart ? `  (${s.closestPart})` : ''}`,
     `time to collision ${ttcText}`,
   ];
   for (const u of s.uncertainty ?? []) {
     if (u.switchProbability > 0) lines.push(`${u.obstacle}: switch p ${u.switchProbability.toFixed(2)}  σ ${ms(u.sigma)}`);
   }
   s.controlPoints.slice(0, 3).forEach((cp, i) => {
-    let text = `cp${i + 1} link ${cp.link}  d' ${cp.d.toFixed(3)}  a' ${cp.a.toFixed(3)} m`;
+    let text = `cp${i + 1} link ${cp.link}  d' ${cp.d.toFixed(3)}  a' ${cp.a.toFixed(3)} m${cp.part ? `  ← ${cp.part}` : ''}`;
     if (cp.sigma) text += `  ±${ms(Math.max(cp.sigma.d, cp.sigma.a))}`;
     if (cp.transitioning && cp.target) text += `\n    → link ${cp.target.link} (${cp.target.d.toFixed(3)}, ${cp.target.a.toFixed(3)})`;
     lines.push(text);

@@ -3,7 +3,7 @@
 // as a scenario (Save, Share, a shared link, a file).
 import { clone, errorText, h } from './dom.js';
 import { decodeShare, encodeShare, readScenarioFile } from './scenario-io.js';
-import { add, defaultShape, isPoint, len, mul, sub, translateShape } from './shapes.js';
+import { add, defaultShape, importTrack, isPoint, len, mul, sub, translateShape } from './shapes.js';
 
 export const sceneMethods = {
   /**
@@ -139,6 +139,36 @@ export const sceneMethods = {
     this.forgetShareLink();
     this.select(null);
     this.setStatus(`Deleted ${id}.`);
+  },
+
+  /**
+   * Replays a recorded keypoint track (a `File`, JSON or CSV) with the
+   * selected human (or a new one when no human is selected). A track the
+   * library refuses leaves the scene as it was, and says why.
+   */
+  async openTrack(file) {
+    if (!file) return;
+    try {
+      const text = await file.text();
+      const csv = /\.csv$/i.test(file.name);
+      const options = csv ? { format: 'csv', layout: /body25/i.test(file.name) ? 'body25' : /kinect/i.test(file.name) ? 'kinect32' : 'coco17' } : {};
+      const { shape, report } = importTrack(text, options);
+      const id = this.selected && this.shapeOf(this.selected)?.type === 'human' ? this.selected : null;
+      if (id) {
+        if (!this.setShape(id, shape)) return;
+      } else {
+        const spec = { id: this.nextId('human'), shape };
+        if (!this.guard(() => { this.world.addObstacle(spec); return true; })) return;
+        this.edited = true;
+        this.scenario.obstacles = [...(this.scenario.obstacles ?? []), spec];
+        this.forgetShareLink();
+        this.select(spec.id);
+      }
+      this.refreshSelected();
+      this.setStatus(`Track "${file.name}": ${report.layout}, ${report.frames} frames over ${report.duration.toFixed(2)} s, height ${report.height.toFixed(2)} m; ${report.filled} keypoints filled, ${report.clamped} angles clamped.`);
+    } catch (err) {
+      this.showError(`${errorText(err)}\nThe current scene is unchanged.`);
+    }
   },
 
   shapeOf(id) {

@@ -38,6 +38,19 @@ function lib() {
 }
 
 /** The shape moved by `delta` (m), as the library moves obstacles. */
+/** A human with its `side` hand moved by `delta` from rest: only that arm changes (the library's two-link solution). */
+export function moveHumanHand(shape, side, delta) {
+  return lib().moveHumanHand(shape, side, delta);
+}
+
+/** A recorded keypoint track (JSON or CSV text) as `{ shape, report }`: a human replaying it. */
+export function importTrack(text, options) {
+  return lib().importTrack(text, options);
+}
+
+/** The motions of the human library (docs/scenarios.md). */
+export const HUMAN_MOTIONS = ['reach', 'wave', 'walk', 'bend', 'stepBack'];
+
 export function translateShape(shape, delta) {
   return lib().translateShape(shape, delta);
 }

@@ -1,7 +1,9 @@
 //! One full control step (FK, skeleton, scene query, control points,
 //! transitions, Jacobians, controller, integration) of `lwr4` among N static
 //! sphere obstacles. Goals (issue 5): ≤ 10 / 50 / 330 µs median for N = 10 /
-//! 100 / 1000 natively, and wasm within 1.5×.
+//! 100 / 1000 natively, and wasm within 1.5×. The row `human+10` adds an
+//! articulated human walking past the arm (sixteen moving parts) to the ten
+//! spheres.
 //!
 //! `cargo bench --bench control_step` runs criterion. With `SA_BATCH_ROUND=1`
 //! it times one round of batches and prints `name median_ns_per_step` lines;
@@ -9,6 +11,7 @@
 //! (`benchControlStep`), so that the ratio is measured under the same load.
 
 use criterion::Criterion;
+use skeleton_avoidance::workloads::control_step_human_workload;
 use skeleton_avoidance::world::{World, control_step_workload};
 use std::hint::black_box;
 use std::time::Instant;
@@ -38,6 +41,30 @@ fn criterion_benches(c: &mut Criterion) {
             b.iter(|| black_box(step(&mut world, &start, &mut steps)));
         });
     }
+    if let Ok(mut world) = control_step_human_workload(10) {
+        let start = world.clone();
+        let mut steps = 0;
+        c.bench_function("control_step/lwr4/human+10", |b| {
+            b.iter(|| black_box(step(&mut world, &start, &mut steps)));
+        });
+    }
+}
+
+/// Median ns per step over 9 timed batches of `batch` steps.
+fn batch_median(world: &mut World, batch: u32) -> f64 {
+    let start = world.clone();
+    let mut steps = 0;
+    let mut per: Vec<f64> = (0..9)
+        .map(|_| {
+            let t = Instant::now();
+            for _ in 0..batch {
+                black_box(step(world, &start, &mut steps));
+            }
+            t.elapsed().as_nanos() as f64 / f64::from(batch)
+        })
+        .collect();
+    per.sort_by(f64::total_cmp);
+    per[per.len() / 2]
 }
 
 fn main() {
@@ -46,20 +73,17 @@ fn main() {
             let Ok(mut world) = control_step_workload(n) else {
                 continue;
             };
-            let start = world.clone();
-            let mut steps = 0;
             let batch: u32 = if n >= 1000 { 100 } else { 500 };
-            let mut per: Vec<f64> = (0..9)
-                .map(|_| {
-                    let t = Instant::now();
-                    for _ in 0..batch {
-                        black_box(step(&mut world, &start, &mut steps));
-                    }
-                    t.elapsed().as_nanos() as f64 / f64::from(batch)
-                })
-                .collect();
-            per.sort_by(f64::total_cmp);
-            println!("control_step/lwr4/{n} {:.1}", per[per.len() / 2]);
+            println!(
+                "control_step/lwr4/{n} {:.1}",
+                batch_median(&mut world, batch)
+            );
+        }
+        if let Ok(mut world) = control_step_human_workload(10) {
+            println!(
+                "control_step/lwr4/human+10 {:.1}",
+                batch_median(&mut world, 500)
+            );
         }
         return;
     }

@@ -20,6 +20,7 @@
 //! | [`transition`] | a control point travelling along the skeleton through the nodes, one quintic per DH value (C2) | §III-B, fig. 5 |
 //! | [`avoidance`] | control-point selection, repulsion, velocity / torque / second-order CLIK controllers with task priority and joint weights, the protective layer (guards solved as a small QP) and the jerk-limited joint limiter | §II, §III-A |
 //! | [`dependability`] | sensing models, first-order uncertainty propagation, switch probability, chattering (stop or lock, every selection mode), time to collision, events | §IV |
+//! | [`human`] | the interacting human: an articulated body of capsules sized by anthropometric proportions, posed by joint angles, keyframes or a motion library, with every part's velocity | §II |
 //! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples | — |
 //! | [`world`] | a live simulation: the control step as a pipeline of stages, obstacle edits, picking, `simulate` | — |
 //! | [`study`] | Monte Carlo studies: many runs of a scenario with independent sensing seeds, reduced to distributions (clearance quantiles, probabilities of contact, stop, chattering), in parallel with the feature `parallel`, merged from shards | §IV |
@@ -60,6 +61,7 @@ pub mod dependability;
 pub mod distance;
 pub mod error;
 pub mod fitting;
+pub mod human;
 pub mod kinematics;
 pub mod linalg;
 pub mod math;

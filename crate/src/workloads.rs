@@ -95,3 +95,28 @@ pub fn monte_carlo_workload() -> Result<crate::scenario::Scenario, crate::scenar
     });
     Ok(s)
 }
+
+/// The control step's workload ([`crate::world::control_step_workload`]
+/// with `obstacles` spheres) with an articulated human walking to and fro
+/// past the arm at 1.5 m/s, arms swinging (sixteen moving parts, each with
+/// its own velocity).
+///
+/// # Errors
+/// None in practice (the scene is valid).
+pub fn control_step_human_workload(
+    obstacles: usize,
+) -> Result<crate::world::World, crate::scenario::ScenarioError> {
+    let mut w = crate::world::control_step_workload(obstacles)?;
+    let person: crate::scenario::ObstacleSpec = serde_json::from_value(serde_json::json!({
+        "id": "person",
+        "shape": {
+            "type": "human", "position": [0.75, -1.5, 0.0], "heading": std::f64::consts::FRAC_PI_2,
+            "animation": { "clip": "walk", "speed": 1.5 }
+        },
+        "motion": { "type": "waypoints", "points": [[0, 0, 0], [0, 3, 0], [0, 0, 0]],
+                    "times": [0, 2, 4], "loop": true }
+    }))
+    .map_err(|e| crate::error::FieldError::new("person", e.to_string()))?;
+    w.add_obstacle(person)?;
+    Ok(w)
+}

@@ -559,7 +559,11 @@ fn live_edits_move_add_remove_pick_and_reset() {
     .unwrap();
     let st = w.state();
     assert_eq!(st.obstacles.len(), 2);
-    assert_eq!(st.obstacles[1].parts.len(), 4, "head, torso, two arms");
+    assert_eq!(
+        st.obstacles[1].parts.len(),
+        16,
+        "pelvis, torso, neck, head, arms, hands, legs, feet"
+    );
     let hit = w
         .pick(DVec3::new(1.2, 0.0, 3.0), DVec3::new(0.0, 0.0, -1.0))
         .unwrap()

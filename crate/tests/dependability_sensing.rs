@@ -9,7 +9,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use glam::DVec3;
 use skeleton_avoidance::dependability::{EventKind, SensingSpec};
-use skeleton_avoidance::scenario::{self, EXAMPLE_NAMES, Scenario, SensingConfig};
+use skeleton_avoidance::scenario::{self, EXAMPLE_NAMES, Scenario, SensingConfig, ShapeSpec};
 use skeleton_avoidance::world::{World, simulate};
 
 mod common;
@@ -83,6 +83,10 @@ fn no_transition_too_slow_with_static_exactly_sensed_obstacles_in_any_example() 
         s.sensing = SensingConfig::default();
         for o in &mut s.obstacles {
             o.motion = None;
+            // A human's limbs hold still too.
+            if let ShapeSpec::Human(h) = &mut o.shape {
+                h.animation = None;
+            }
         }
         let trace = simulate(&s).unwrap();
         let slow: Vec<_> = trace

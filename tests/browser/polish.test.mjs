@@ -22,7 +22,7 @@ before(async () => {
 });
 after(() => new Promise((resolve) => server.close(resolve)));
 
-const EXAMPLES = ['planar-transition', 'chattering', 'lwr4-elbow', 'human-panda', 'dual-arm-self', 'sliding-point'];
+const EXAMPLES = ['planar-transition', 'chattering', 'lwr4-elbow', 'human-panda', 'human-reach', 'dual-arm-self', 'sliding-point'];
 const state = (page) => page.evaluate(() => window.playground.state());
 
 async function open(page, query = '') {

@@ -68,6 +68,16 @@ const robotQ = (r) => {
   return [robot, q];
 };
 
+/** A human with an animation, and a short COCO-17 track (JSON text). */
+const HUMAN = { type: 'human', position: [1, 0, 0], heading: 3, animation: { clip: 'wave' } };
+const TRACK = JSON.stringify({
+  layout: 'coco17',
+  frames: [0, 0.1, 0.2].map((t) => ({
+    t,
+    keypoints: Array.from({ length: 17 }, (_, k) => [1 + 0.01 * k, 0.1 * (k % 2 ? 1 : -1), 1.6 - 0.08 * k + 0.01 * t]),
+  })),
+});
+
 /** The free functions, each with a generator of (mostly hostile) arguments. */
 const FUNCTIONS = {
   robotPreset: (r) => [arg(r, r.pick(sa.presetNames()))],
@@ -81,6 +91,8 @@ const FUNCTIONS = {
   distance: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, r.pick(PRIMITIVES))],
   referencePoint: (r) => [arg(r, r.pick(PRIMITIVES))],
   translateShape: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, [0.1, -0.2, 0.3])],
+  moveHumanHand: (r) => [arg(r, HUMAN), arg(r, r.pick(['left', 'right'])), arg(r, [0.05, -0.1, 0.2])],
+  importTrack: (r) => [arg(r, TRACK), r.chance(0.5) ? undefined : arg(r, { smoothing: 0.02, maxGap: 0.3 })],
   simulate: (r) => [arg(r, r.pick(SCENARIOS))],
   robotFromUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, { tip: 'b' })],
   fitUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? arg(r, { tip: 'b', meshes: {} }) : { meshes: { 'm.stl': new Uint8Array(r.int(200)).map(() => r.int(256)) } }],

@@ -67,3 +67,33 @@ test('bad figures and deltas throw an Error naming the field', () => {
   ];
   for (const [f, re] of cases) assert.throws(f, (e) => e instanceof Error && re.test(e.message), String(f));
 });
+
+test('moveHumanHand moves only that arm; importTrack returns a human replaying a track, or refuses naming the field', () => {
+  const { moveHumanHand, importTrack, World, exampleScenario } = require('../../crate/pkg-node/skeleton_avoidance.js');
+  const person = { type: 'human', position: [1, 0.2, 0], heading: 3, animation: { clip: 'wave' } };
+  const moved = moveHumanHand(person, 'right', [0.15, 0.05, 0.25]);
+  assert.equal(moved.type, 'human');
+  assert.equal(moved.animation, undefined);
+  assert.ok(moved.pose.rightElbow > 0);
+  assert.equal(moved.pose.leftElbow, undefined, 'the left arm keeps its angles');
+  assert.throws(() => moveHumanHand(person, 'middle', [0, 0, 0]), /^Error: side: /);
+  assert.throws(() => moveHumanHand({ type: 'sphere', center: [0, 0, 0], radius: 1 }, 'left', [0, 0, 0]), /^Error: shape: expected a human/);
+  const fs = require('node:fs');
+  const text = fs.readFileSync(new URL('../../web/tracks/reach-coco17.json', import.meta.url), 'utf8');
+  const { shape, report } = importTrack(text);
+  assert.equal(shape.type, 'human');
+  assert.equal(report.frames, 75);
+  assert.equal(shape.animation.keyframes.length, 75);
+  // The imported figure is a valid obstacle; a refused track changes nothing.
+  const w = new World(exampleScenario('human-reach'));
+  w.setObstacleShape('person', shape);
+  const before = JSON.stringify(w.state().obstacles);
+  const bad = JSON.parse(text);
+  bad.frames[5].t = bad.frames[4].t;
+  assert.throws(() => importTrack(JSON.stringify(bad)), /frames\[5\]\.t: must increase/);
+  assert.throws(() => importTrack(text, { layout: 'coco18' }), /^Error: layout: unknown layout/);
+  assert.throws(() => importTrack('1,2,3', { format: 'csv', layout: 'coco17' }), /^Error: line 1: expected 52 cells/);
+  assert.throws(() => importTrack(42), /^Error: text: expected a string/);
+  assert.equal(JSON.stringify(w.state().obstacles), before);
+  w.free();
+});

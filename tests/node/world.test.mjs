@@ -7,7 +7,7 @@ import { createRequire } from 'node:module';
 const require = createRequire(import.meta.url);
 const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
 
-const NAMES = ['planar-transition', 'lwr4-elbow', 'human-panda', 'dual-arm-self', 'chattering', 'sliding-point'];
+const NAMES = ['planar-transition', 'lwr4-elbow', 'human-panda', 'human-reach', 'dual-arm-self', 'chattering', 'sliding-point'];
 
 test('exampleScenarioNames lists the shipped examples and each one loads', () => {
   assert.deepEqual(sa.exampleScenarioNames(), NAMES);
@@ -102,7 +102,7 @@ test('a World steps, reports its state and accepts edits', () => {
   assert.equal(w.pick([5, 5, 5], [0, 0, 1]), null);
 
   w.addObstacle({ id: 'person', shape: { type: 'human', position: [1.2, 0, 0] } });
-  assert.equal(w.state().obstacles[1].parts.length, 4);
+  assert.equal(w.state().obstacles[1].parts.length, 16, 'pelvis, torso, neck, head, arms, hands, legs, feet');
   w.setObstacleShape('ball', { type: 'capsule', a: [0, 0.5, 1], b: [0, 0.6, 1], radius: 0.05 });
   w.setController({ mode: 'torque', torque: { stiffness: 150 } });
   w.advance(0.001, 10);

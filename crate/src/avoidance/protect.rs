@@ -189,6 +189,8 @@ pub struct GuardPair {
     pub obstacle_speed: f64,
     /// Obstacle index.
     pub obstacle: Option<usize>,
+    /// Index of the obstacle's part in the scene (a human's hand, …).
+    pub part: Option<usize>,
 }
 
 fn jacobian_at(

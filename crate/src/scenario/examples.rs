@@ -4,10 +4,11 @@ use super::{Scenario, ScenarioError};
 use crate::error::FieldError;
 
 /// Names of the example scenarios shipped with the crate.
-pub const EXAMPLE_NAMES: [&str; 6] = [
+pub const EXAMPLE_NAMES: [&str; 7] = [
     "planar-transition",
     "lwr4-elbow",
     "human-panda",
+    "human-reach",
     "dual-arm-self",
     "chattering",
     "sliding-point",
@@ -22,6 +23,7 @@ pub fn example_json(name: &str) -> Result<&'static str, FieldError> {
         "planar-transition" => include_str!("../../../scenarios/planar-transition.json"),
         "lwr4-elbow" => include_str!("../../../scenarios/lwr4-elbow.json"),
         "human-panda" => include_str!("../../../scenarios/human-panda.json"),
+        "human-reach" => include_str!("../../../scenarios/human-reach.json"),
         "dual-arm-self" => include_str!("../../../scenarios/dual-arm-self.json"),
         "chattering" => include_str!("../../../scenarios/chattering.json"),
         "sliding-point" => include_str!("../../../scenarios/sliding-point.json"),

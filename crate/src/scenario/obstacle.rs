@@ -10,71 +10,7 @@ use super::nested;
 use crate::distance::{Primitive, PrimitiveSpec};
 use crate::error::{FieldError, finite, finite3, positive};
 
-/// A person modelled as capsules and a sphere (head, torso, arms), moving as
-/// one body.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "camelCase", deny_unknown_fields)]
-pub struct HumanSpec {
-    /// Point on the floor between the feet (m).
-    pub position: [f64; 3],
-    /// Direction the person faces, about z from +x (rad; default 0).
-    #[serde(default)]
-    pub heading: f64,
-    /// Height (m, > 0; default 1.75); the body scales with it.
-    #[serde(default = "default_height")]
-    pub height: f64,
-    /// Arm elevation: 0 hanging down, 1 straight forward (default 0.5).
-    #[serde(default = "default_reach")]
-    pub reach: f64,
-}
-
-fn default_height() -> f64 {
-    1.75
-}
-
-fn default_reach() -> f64 {
-    0.5
-}
-
-impl HumanSpec {
-    /// The body's parts: head sphere, torso capsule, left and right arm
-    /// capsules.
-    #[must_use]
-    pub fn parts(&self) -> Vec<PrimitiveSpec> {
-        use crate::distance::{CapsuleSpec, SphereSpec};
-        let h = self.height;
-        let base = DVec3::from_array(self.position);
-        let (s, c) = crate::math::sin_cos(self.heading);
-        let fwd = DVec3::new(c, s, 0.0);
-        let side = DVec3::new(-fwd.y, fwd.x, 0.0);
-        let hip = base + DVec3::Z * (0.53 * h);
-        let chest = base + DVec3::Z * (0.78 * h);
-        let head = base + DVec3::Z * (0.92 * h);
-        let shoulder_half = 0.12 * h;
-        let arm_len = 0.36 * h;
-        let angle = self.reach.clamp(0.0, 1.0) * std::f64::consts::FRAC_PI_2;
-        let (s, c) = crate::math::sin_cos(angle);
-        let arm_dir = fwd * s - DVec3::Z * c;
-        let cap = |a: DVec3, b: DVec3, r: f64| {
-            PrimitiveSpec::Capsule(CapsuleSpec {
-                a: a.to_array(),
-                b: b.to_array(),
-                radius: r,
-            })
-        };
-        let ls = chest + side * shoulder_half;
-        let rs = chest - side * shoulder_half;
-        vec![
-            PrimitiveSpec::Sphere(SphereSpec {
-                center: head.to_array(),
-                radius: 0.065 * h,
-            }),
-            cap(hip, chest, 0.1 * h),
-            cap(ls, ls + arm_dir * arm_len, 0.03 * h),
-            cap(rs, rs + arm_dir * arm_len, 0.03 * h),
-        ]
-    }
-}
+pub use crate::human::HumanSpec;
 
 /// The figure of an obstacle: an environment primitive or a human.
 #[derive(Clone, Debug, PartialEq)]
@@ -217,19 +153,16 @@ pub fn translated(shape: &ShapeSpec, t: DVec3) -> ShapeSpec {
     out
 }
 
-/// The primitives of a figure (one, or the parts of a human).
+/// The primitives of a figure (one, or the parts of a human at rest).
 ///
 /// # Errors
-/// The primitive's own validation (`radius: must be > 0`, …), or
-/// `height: must be > 0` for a human.
+/// The primitive's own validation (`radius: must be > 0`, …), or the
+/// human's ([`HumanSpec::compile`]: `height: must be > 0`, …).
 pub fn primitives(shape: &ShapeSpec) -> Result<Vec<Primitive>, FieldError> {
     match shape {
         ShapeSpec::Primitive(p) => Ok(vec![Primitive::from_spec(p)?]),
         ShapeSpec::Human(h) => {
-            finite3("position", DVec3::from_array(h.position))?;
-            finite("heading", h.heading)?;
-            positive("height", h.height)?;
-            finite("reach", h.reach)?;
+            h.compile()?;
             h.parts().iter().map(Primitive::from_spec).collect()
         }
     }

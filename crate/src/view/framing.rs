@@ -75,18 +75,28 @@ pub fn is_planar(frames: &[DAffine3]) -> bool {
 /// point of every bounded obstacle part the robot can reach (within the
 /// reach ball). Infinite planes and parts out of reach (a large floor's
 /// centre, a person walking in from afar) are left out so that the robot
-/// stays large on screen.
+/// stays large on screen. Of a person only the forearms and hands are
+/// framed (what reaches for the arm; the body standing beside it would
+/// make the robot small), and only when the pelvis is within reach.
 #[must_use]
 pub fn fit_points(state: &DrawState, reach: &Reach) -> Vec<[f64; 3]> {
     let mut points = state.skeleton.nodes.clone();
-    let parts = state.obstacles.iter().flat_map(|o| &o.parts);
-    for part in parts {
-        if matches!(part, PrimitiveSpec::Plane(_)) {
+    let within = |p: &PrimitiveSpec| p.reference_point().distance(reach.center) <= reach.radius;
+    for o in &state.obstacles {
+        let reaching = |k: usize| {
+            let name = crate::human::PART_NAMES.get(k).copied().unwrap_or("");
+            name.ends_with("Hand") || name.ends_with("Forearm")
+        };
+        if o.human && !o.parts.first().is_some_and(within) {
             continue;
         }
-        let p = part.reference_point();
-        if p.distance(reach.center) <= reach.radius {
-            points.push(p.to_array());
+        for (k, part) in o.parts.iter().enumerate() {
+            if matches!(part, PrimitiveSpec::Plane(_)) || (o.human && !reaching(k)) {
+                continue;
+            }
+            if within(part) {
+                points.push(part.reference_point().to_array());
+            }
         }
     }
     points

@@ -1,4 +1,5 @@
-//! `referencePoint(shape)` and `translateShape(shape, delta)`: the library's
+//! `referencePoint(shape)`, `translateShape(shape, delta)`, `moveHumanHand` and
+//! `importTrack`: the library's
 //! one definition of where a figure is and how it moves, for the page's
 //! drag, scale and rotate tools. Converts and validates only; the work is in
 //! [`crate::scenario::reference_point`] and [`crate::scenario::translated`].
@@ -41,4 +42,81 @@ pub fn translate_shape_js(shape: JsValue, delta: JsValue) -> Result<JsValue, JsE
     let moved = scenario::translated(&shape, delta);
     scenario::primitives(&moved).map_err(|e| js_error(&e.within("shape")))?;
     to_js(&moved)
+}
+
+/// Most characters of a keypoint track `importTrack` reads (64 MiB).
+const MAX_TRACK_CHARS: usize = 64 << 20;
+
+/// Reads a recorded keypoint track (`text`: JSON or CSV; COCO-17, BODY-25
+/// or Azure Kinect 32) and returns `{ shape, report }`: a `human` shape
+/// whose keyframes replay it, and what was repaired (gaps filled, angles
+/// clamped). `options`: `{ format?, layout?, height?, smoothing?, maxGap? }`
+/// (docs/scenarios.md). Nothing else changes: give the shape to
+/// `setObstacleShape` or `addObstacle` to use it.
+///
+/// # Errors
+/// `layout: unknown layout …`, `frames[3].t: must increase`,
+/// `frames[2].keypoints: expected 17 keypoints …`, `line 5: …`,
+/// `frames: at most 100000 frames …`, `text: …`.
+#[wasm_bindgen(js_name = importTrack)]
+pub fn import_track_js(text: JsValue, options: JsValue) -> Result<JsValue, JsError> {
+    let Some(text) = text.as_string() else {
+        return Err(js_error(&crate::FieldError::new(
+            "text",
+            "expected a string",
+        )));
+    };
+    if text.len() > MAX_TRACK_CHARS {
+        return Err(js_error(&crate::FieldError::new(
+            "text",
+            format!("at most {MAX_TRACK_CHARS} characters (got {})", text.len()),
+        )));
+    }
+    let options: crate::human::track::TrackOptions = if options.is_undefined() || options.is_null()
+    {
+        crate::human::track::TrackOptions::default()
+    } else {
+        object_from_js("options", options)?
+    };
+    let out = crate::human::track::import(&text, &options).map_err(|e| js_error(&e))?;
+    #[derive(serde::Serialize)]
+    struct Imported {
+        shape: ShapeSpec,
+        report: crate::human::track::TrackReport,
+    }
+    to_js(&Imported {
+        shape: ShapeSpec::Human(out.shape),
+        report: out.report,
+    })
+}
+
+/// A human `shape` with its `side` (`"left"` or `"right"`) hand moved by
+/// `delta` `[x, y, z]` (m) from where it is at rest: only that arm's joint
+/// angles change (the other arm, the trunk, the legs and the root stay),
+/// and the animation is dropped so the person holds the pose.
+///
+/// # Errors
+/// A bad shape (not a human, `shape.height: must be > 0`, …), `side: …`,
+/// `delta: …`.
+#[wasm_bindgen(js_name = moveHumanHand)]
+pub fn move_human_hand_js(
+    shape: JsValue,
+    side: JsValue,
+    delta: JsValue,
+) -> Result<JsValue, JsError> {
+    let ShapeSpec::Human(h) = figure("shape", shape)? else {
+        return Err(js_error(&crate::FieldError::new(
+            "shape",
+            "expected a human (type: \"human\")",
+        )));
+    };
+    let Some(side) = side.as_string() else {
+        return Err(js_error(&crate::FieldError::new(
+            "side",
+            "expected \"left\" or \"right\"",
+        )));
+    };
+    let delta = point3("delta", &delta)?;
+    let moved = crate::human::library::move_hand(&h, &side, delta).map_err(|e| js_error(&e))?;
+    to_js(&ShapeSpec::Human(moved))
 }

@@ -111,15 +111,31 @@ pub fn example_scenario_names() -> Vec<String> {
 }
 
 /// Runs `iterations` control steps of the benchmark workload (`lwr4` among
-/// `obstacles` static spheres, default 20, at 1 kHz) and returns a checksum.
+/// `obstacles` static spheres, default 20, at 1 kHz; with `human` true also
+/// an articulated human walking past the arm) and returns a checksum.
 ///
 /// # Errors
-/// `iterations` not an integer in 0..=10000, `obstacles` not one in 0..=1000.
+/// `iterations` not an integer in 0..=10000, `obstacles` not one in 0..=1000,
+/// `human` not a boolean.
 #[wasm_bindgen(js_name = benchControlStep)]
-pub fn bench_control_step(iterations: JsValue, obstacles: JsValue) -> Result<f64, JsError> {
+pub fn bench_control_step(
+    iterations: JsValue,
+    obstacles: JsValue,
+    human: JsValue,
+) -> Result<f64, JsError> {
     let iterations = count_arg("iterations", &iterations, None, MAX_BENCH_STEPS)?;
     let n = count_arg("obstacles", &obstacles, Some(20), 1000)?;
-    let mut w = world::control_step_workload(n as usize).map_err(|e| scenario_error(&e))?;
+    let human = match human.as_bool() {
+        Some(b) => b,
+        None if human.is_undefined() || human.is_null() => false,
+        None => return Err(JsError::new("human: expected a boolean")),
+    };
+    let mut w = if human {
+        crate::workloads::control_step_human_workload(n as usize)
+    } else {
+        world::control_step_workload(n as usize)
+    }
+    .map_err(|e| scenario_error(&e))?;
     let start = w.clone();
     let mut sum = 0.0;
     for k in 0..iterations {

@@ -95,9 +95,11 @@ impl World {
     pub fn set_obstacle_shape(&mut self, id: &str, shape: ShapeSpec) -> Result<(), ScenarioError> {
         let k = self.index_of(id)?;
         let parts = primitives(&shape).map_err(|e| e.within("shape"))?;
+        let human = super::obstacles::human_of(&shape)?;
         let o = &mut self.obstacles[k];
         o.reference = reference_point(&shape);
         o.parts = parts;
+        o.human = human;
         o.spec.shape = shape.clone();
         self.scenario.obstacles[k].shape = shape;
         self.scene_dirty = true;
@@ -181,11 +183,12 @@ impl World {
         let hit = scene.pick(origin, direction, PICK_RADIUS)?;
         let mut owners = Vec::new();
         for (k, o) in self.obstacles.iter().enumerate() {
-            owners.extend(std::iter::repeat_n(k, o.parts.len()));
+            owners.extend((0..o.parts.len()).map(|i| (k, i)));
         }
         Ok(hit.and_then(|h| {
-            owners.get(h.id as usize).map(|&k| Pick {
+            owners.get(h.id as usize).map(|&(k, i)| Pick {
                 id: self.obstacles[k].spec.id.clone(),
+                part: self.obstacles[k].part_name(i).map(str::to_owned),
                 point: h.point.to_array(),
                 distance: h.distance,
             })

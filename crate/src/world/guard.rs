@@ -38,25 +38,33 @@ impl World {
     /// witness can jump from one end to the other between two steps, onto
     /// a point that moves differently; guarding the ends bounds that point
     /// before the jump (measured on the PR2 reach problems).
-    fn guard_pairs(&mut self, cfg: &ControllerConfig, pairs: &[PairDistance], dt: f64) {
+    ///
+    /// An obstacle's approach speed is that of its part's material point at
+    /// the witness (a human's hand moving with its arm, not the body).
+    fn guard_pairs(&mut self, cfg: &ControllerConfig, pairs: &[PairDistance]) {
         let mut out = std::mem::take(&mut self.guard_pairs);
         out.clear();
         for p in pairs {
-            let (distance, obstacle, other, speed) = match p.target {
+            let (distance, obstacle, other, speed, part) = match p.target {
                 Target::Obstacle { id, .. } => {
                     let o = self.owners[id as usize];
-                    let v = self.obstacles[o].velocity(self.t, dt);
-                    self.end_pairs(cfg, p, id as usize, o, v, &mut out);
+                    let motion = self
+                        .part_motion
+                        .get(id as usize)
+                        .copied()
+                        .unwrap_or_default();
+                    self.end_pairs(cfg, p, id as usize, o, &motion, &mut out);
                     (
                         p.distance - self.obstacles[o].margin,
                         Some(o),
                         None,
-                        -p.normal.dot(v),
+                        -p.normal.dot(motion.velocity_at(p.point_other)),
+                        Some(id as usize),
                     )
                 }
                 Target::Segment(other) => {
                     let u = fraction_on(&self.skeleton, other, p.point_other);
-                    (p.distance, None, Some((other, u)), 0.0)
+                    (p.distance, None, Some((other, u)), 0.0, None)
                 }
             };
             if distance > cfg.influence_distance {
@@ -70,6 +78,7 @@ impl World {
                 distance,
                 obstacle_speed: speed,
                 obstacle,
+                part,
             });
         }
         self.guard_pairs = out;
@@ -112,7 +121,7 @@ impl World {
         p: &PairDistance,
         part: usize,
         o: usize,
-        v: glam::DVec3,
+        motion: &super::obstacles::PartMotion,
         out: &mut Vec<GuardPair>,
     ) {
         let Some(shape) = self.scene.obstacles().get(part).map(|x| &x.shape) else {
@@ -142,8 +151,9 @@ impl World {
                 other: None,
                 normal: d.normal,
                 distance: clearance,
-                obstacle_speed: -d.normal.dot(v),
+                obstacle_speed: -d.normal.dot(motion.velocity_at(d.point_b)),
                 obstacle: Some(o),
+                part: Some(part),
             });
         }
     }
@@ -164,7 +174,7 @@ impl World {
             self.guards.clear();
             return Ok(());
         }
-        self.guard_pairs(cfg, pairs, dt);
+        self.guard_pairs(cfg, pairs);
         let braking = braking_time(&self.robot, &self.motion, dt);
         let floor = if self.stopped { 0.0 } else { f64::NEG_INFINITY };
         let damper = Self::uses_constraints(cfg).then_some(Damper {

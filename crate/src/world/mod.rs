@@ -57,7 +57,7 @@ mod track;
 mod uncertainty;
 
 use obstacles::ObstacleState;
-pub use probe::StepProbe;
+pub use probe::{GuardedPair, StepProbe};
 pub use state::{
     ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick, SkeletonState,
     Uncertainty, WorldState,
@@ -95,6 +95,9 @@ pub struct World {
     obstacles: Vec<ObstacleState>,
     scene: Scene,
     owners: Vec<usize>,
+    /// Per scene part: its index among its obstacle's parts, and its motion.
+    part_index: Vec<usize>,
+    part_motion: Vec<obstacles::PartMotion>,
     scene_dirty: bool,
     trackers: BTreeMap<Key, Tracker>,
     risky: BTreeSet<usize>,
@@ -120,6 +123,9 @@ pub struct World {
     keep_all_events: bool,
     points: Vec<ControlPointState>,
     min_clearance: Option<f64>,
+    /// The human part (`id:part`) of the pair at `min_clearance`, if a
+    /// human's.
+    closest_part: Option<String>,
     time_to_collision: Option<f64>,
     /// Per obstacle, the factor on the arm's allowed approach speed when a
     /// transition plus braking would not end before contact (1: none).
@@ -195,6 +201,8 @@ impl World {
             obstacles,
             scene: Scene::default(),
             owners: Vec::new(),
+            part_index: Vec::new(),
+            part_motion: Vec::new(),
             scene_dirty: true,
             trackers: BTreeMap::new(),
             risky: BTreeSet::new(),
@@ -217,6 +225,7 @@ impl World {
             keep_all_events: false,
             points: Vec::new(),
             min_clearance: None,
+            closest_part: None,
             time_to_collision: None,
             slowdown: Vec::new(),
             active: Vec::new(),
@@ -227,7 +236,8 @@ impl World {
             step_q: Vec::new(),
             clock: clock::Clock::default(),
         };
-        w.rebuild_scene(0.0, false);
+        let dt = w.scenario.dt;
+        w.rebuild_scene(0.0, false, dt);
         Ok(w)
     }
 

@@ -29,11 +29,9 @@ impl World {
         key: &Key,
         a: &Approach<'_>,
         cfg: &ControllerConfig,
-        dt: f64,
     ) {
         let (owner, ttc, remaining) = (a.owner, a.ttc, a.remaining);
-        let coming =
-            owner.is_some_and(|o| -a.normal.dot(self.obstacles[o].velocity(self.t, dt)) > 0.0);
+        let coming = owner.is_some() && -a.normal.dot(a.obstacle_velocity) > 0.0;
         let guarded = cfg.protective.enabled;
         let needed = remaining + if coming { a.braking } else { 0.0 };
         let too_slow = remaining > 0.0 && ttc < needed && (coming || !guarded);
@@ -73,7 +71,7 @@ impl World {
         dt: f64,
     ) -> Result<(f64, Option<f64>, DVec3), FieldError> {
         let (dh, normal, clearance) = self.ttc_point(key, at, owner, here)?;
-        let closing = self.closing_speed(key, &dh, owner, normal, dt);
+        let closing = self.closing_speed(key, &dh, owner, normal);
         let closing = match (prev, closing) {
             (Some(p), Some(c)) => Some(p + (c - p) * dt / (CLOSING_FILTER_TIME + dt)),
             (_, c) => c,
@@ -109,14 +107,14 @@ impl World {
     /// material point at `dh` (`nᵀ J_θ q̇`, not the point's travel along the
     /// skeleton), minus that of the other point of a self-collision pair,
     /// plus the obstacle's own approach speed (`−nᵀ v`, from its motion, not
-    /// from the sensed noise). `None` when the point answers nothing.
+    /// from the sensed noise; `v` is the velocity of the obstacle's part
+    /// nearest the point, a human's hand moving with its arm). `None` when the point answers nothing.
     pub(super) fn closing_speed(
         &self,
         key: &Key,
         dh: &DhPoint,
         owner: Option<usize>,
         normal: DVec3,
-        dt: f64,
     ) -> Option<f64> {
         let qdot = &self.motion.qdot;
         let velocity = |p: &DhPoint| -> DVec3 {
@@ -133,7 +131,11 @@ impl World {
                         .ok()?;
                 Some(arm - normal.dot(velocity(&o)))
             }
-            (_, Some(o)) => Some(arm - normal.dot(self.obstacles[o].velocity(self.t, dt))),
+            (_, Some(o)) => {
+                // The approaching part's own velocity (a hand, not the body).
+                let position = dh.position(&self.robot, &self.frames);
+                Some(arm - normal.dot(self.approach_velocity(o, position)))
+            }
             (_, None) => None,
         }
     }
@@ -143,6 +145,8 @@ impl World {
 pub(super) struct Approach<'a> {
     /// The obstacle it answers, if any.
     pub owner: Option<usize>,
+    /// The velocity of that obstacle's part nearest the point (m/s).
+    pub obstacle_velocity: DVec3,
     /// The id it reports.
     pub name: &'a str,
     /// Time to collision (s).

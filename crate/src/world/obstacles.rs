@@ -1,6 +1,13 @@
 //! Obstacles of a [`World`]: their figure, motion and sensing model, the
-//! scene of the *sense* stage (obstacles at `t` as sensed) and distances
-//! from a point to one obstacle.
+//! scene of the *sense* stage (obstacles at `t` as sensed, with the motion
+//! of every part) and distances from a point to one obstacle.
+//!
+//! A primitive moves rigidly with its motion. A human's parts move with
+//! the obstacle's motion *and* their own (keyframes, a clip): each scene
+//! part carries a [`PartMotion`], so that the protective layer and the time
+//! to collision read the speed of the part that approaches (a reaching
+//! hand at 2 m/s) rather than the body's (ISO 13855 sizes separation by the
+//! approaching part's speed).
 
 use glam::DVec3;
 
@@ -8,13 +15,52 @@ use super::World;
 use crate::dependability::{Covariance, SensorModel};
 use crate::distance::{Obstacle, Primitive, Scene, distance};
 use crate::error::FieldError;
-use crate::scenario::{ObstacleSpec, Scenario, primitives, reference_point};
+use crate::human::Human;
+use crate::scenario::{ObstacleSpec, Scenario, ShapeSpec, primitives, reference_point};
+
+/// How one part of the scene moves: the velocities of the two ends of its
+/// axis (a rigid primitive: both the obstacle's velocity).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct PartMotion {
+    a: DVec3,
+    b: DVec3,
+    va: DVec3,
+    vb: DVec3,
+}
+
+impl PartMotion {
+    fn rigid(v: DVec3) -> Self {
+        Self {
+            va: v,
+            vb: v,
+            ..Self::default()
+        }
+    }
+
+    /// Velocity (m/s) of the material point of the part nearest `p`.
+    pub(super) fn velocity_at(&self, p: DVec3) -> DVec3 {
+        let ab = self.b - self.a;
+        let l2 = ab.length_squared();
+        if l2 == 0.0 {
+            return self.va;
+        }
+        let u = ((p - self.a).dot(ab) / l2).clamp(0.0, 1.0);
+        self.va + (self.vb - self.va) * u
+    }
+
+    /// The fastest point's speed (m/s).
+    fn peak_speed(&self) -> f64 {
+        self.va.length().max(self.vb.length())
+    }
+}
 
 #[derive(Clone, Debug)]
 pub(super) struct ObstacleState {
     pub(super) spec: ObstacleSpec,
     pub(super) reference: DVec3,
     pub(super) parts: Vec<Primitive>,
+    /// The articulated body of a human figure.
+    pub(super) human: Option<Human>,
     pub(super) sensor: SensorModel,
     /// The margin of the sensing error at this step (m): the sensor's own
     /// ([`SensorModel::margin`]) plus `latency ×` the obstacle's speed.
@@ -42,12 +88,14 @@ impl ObstacleState {
         index: usize,
     ) -> Result<Self, FieldError> {
         let parts = primitives(&spec.shape).map_err(|e| e.within("shape"))?;
+        let human = human_of(&spec.shape)?;
         let s = scenario.sensing.for_obstacle(&spec.id);
         let seed = s.seed.unwrap_or(1 + index as u64);
         let sensor = SensorModel::from_spec(&s, seed);
         Ok(Self {
             reference: reference_point(&spec.shape),
             parts,
+            human,
             margin: sensor.margin(),
             covariance: sensor.covariance(),
             switch: SwitchOdds::default(),
@@ -85,12 +133,16 @@ impl ObstacleState {
 
     /// Updates [`ObstacleState::margin`] for time `t`: with latency, the
     /// obstacle may have moved `latency × speed` since it was seen (first
-    /// order).
+    /// order), `speed` being its fastest part's.
     pub(super) fn update_margin(&mut self, t: f64, dt: f64) {
         let latency = self.sensor.latency();
         self.margin = self.sensor.margin();
         if latency > 0.0 {
-            let speed = self.velocity(t, dt).length();
+            let speed = self
+                .parts_at(t, self.offset(t), self.velocity(t, dt))
+                .iter()
+                .map(|(_, m)| m.peak_speed())
+                .fold(0.0, f64::max);
             if speed.is_finite() {
                 self.margin += latency * speed;
             }
@@ -99,41 +151,105 @@ impl ObstacleState {
 
     pub(super) fn moves(&self) -> bool {
         !self.sensor.is_exact()
+            || self.human.as_ref().is_some_and(Human::animated)
             || self
                 .spec
                 .motion
                 .as_ref()
                 .is_some_and(|m| *m != crate::scenario::Motion::Static)
     }
+
+    /// Its parts at time `t`, displaced by `off` (m) moving at `v` (m/s),
+    /// each with its motion: the figure translated, or the human posed at
+    /// `t`.
+    pub(super) fn parts_at(&self, t: f64, off: DVec3, v: DVec3) -> Vec<(Primitive, PartMotion)> {
+        match self.human.as_ref().filter(|h| h.animated()) {
+            Some(h) => h
+                .posed_at(t, off, v)
+                .parts
+                .iter()
+                .zip(&self.parts)
+                .map(|(p, rest)| {
+                    let shape = Primitive::from_spec(&p.shape).unwrap_or_else(|_| rest.clone());
+                    let (a, b) = axis(&p.shape);
+                    let m = PartMotion {
+                        a,
+                        b,
+                        va: p.velocity[0],
+                        vb: p.velocity[1],
+                    };
+                    (shape, m)
+                })
+                .collect(),
+            None => self
+                .parts
+                .iter()
+                .map(|p| {
+                    let shape = if off == DVec3::ZERO {
+                        p.clone()
+                    } else {
+                        p.translated(off)
+                    };
+                    (shape, PartMotion::rigid(v))
+                })
+                .collect(),
+        }
+    }
+
+    /// The name of part `k` (`leftForearm`) of a human, `None` for a
+    /// primitive.
+    pub(super) fn part_name(&self, k: usize) -> Option<&'static str> {
+        self.human.as_ref()?;
+        crate::human::PART_NAMES.get(k).copied()
+    }
+}
+
+/// The articulated body of a human figure (checked).
+pub(super) fn human_of(shape: &ShapeSpec) -> Result<Option<Human>, FieldError> {
+    match shape {
+        ShapeSpec::Human(h) => Ok(Some(h.compile().map_err(|e| e.within("shape"))?)),
+        ShapeSpec::Primitive(_) => Ok(None),
+    }
+}
+
+/// The ends of a capsule's axis (a sphere's centre twice).
+fn axis(p: &crate::distance::PrimitiveSpec) -> (DVec3, DVec3) {
+    use crate::distance::PrimitiveSpec as S;
+    match p {
+        S::Capsule(c) => (DVec3::from_array(c.a), DVec3::from_array(c.b)),
+        S::Sphere(s) => (DVec3::from_array(s.center), DVec3::from_array(s.center)),
+        _ => (DVec3::ZERO, DVec3::ZERO),
+    }
 }
 
 impl World {
     /// The *sense* stage: the scene of the obstacles at time `t`, as sensed
     /// when `sensed` (seen `latency` late, displaced by their sensing
-    /// errors).
-    pub(super) fn rebuild_scene(&mut self, t: f64, sensed: bool) {
+    /// errors), with the motion of every part (velocities from differences
+    /// over `dt` of the obstacle's motion plus, for a human, its limbs').
+    pub(super) fn rebuild_scene(&mut self, t: f64, sensed: bool, dt: f64) {
         let mut obstacles = Vec::new();
         self.owners.clear();
+        self.part_index.clear();
+        self.part_motion.clear();
         for (k, o) in self.obstacles.iter_mut().enumerate() {
-            let mut off = o.offset(t);
+            let mut seen = t;
+            let mut noise = DVec3::ZERO;
             if sensed && !o.sensor.is_exact() {
                 let latency = o.sensor.latency();
                 if latency > 0.0 {
-                    off = o.offset((t - latency).max(0.0));
+                    seen = (t - latency).max(0.0);
                 }
-                off += o.sensor.sample_at(t);
+                noise = o.sensor.sample_at(t);
             }
-            for p in &o.parts {
+            let off = o.offset(seen) + noise;
+            let v = o.velocity(seen, dt);
+            for (i, (shape, motion)) in o.parts_at(seen, off, v).into_iter().enumerate() {
                 let id = self.owners.len() as u32;
                 self.owners.push(k);
-                obstacles.push(Obstacle {
-                    id,
-                    shape: if off == DVec3::ZERO {
-                        p.clone()
-                    } else {
-                        p.translated(off)
-                    },
-                });
+                self.part_index.push(i);
+                self.part_motion.push(motion);
+                obstacles.push(Obstacle { id, shape });
             }
         }
         self.scene = Scene::new(obstacles);
@@ -144,16 +260,52 @@ impl World {
         let mut obstacles = Vec::new();
         let mut id = 0u32;
         for o in &self.obstacles {
-            let off = o.offset(t);
-            for p in &o.parts {
-                obstacles.push(Obstacle {
-                    id,
-                    shape: p.translated(off),
-                });
+            for (shape, _) in o.parts_at(t, o.offset(t), DVec3::ZERO) {
+                obstacles.push(Obstacle { id, shape });
                 id += 1;
             }
         }
         Scene::new(obstacles)
+    }
+
+    /// The part of obstacle `o` (as sensed) nearest `p`: its scene index,
+    /// and the velocity (m/s) of its material point nearest `p`.
+    pub(super) fn nearest_part(&self, o: usize, p: DVec3) -> Option<(usize, DVec3)> {
+        let me = Primitive::Point(p);
+        let start = self.owners.partition_point(|&x| x < o);
+        let end = self.owners.partition_point(|&x| x <= o);
+        let mut best: Option<(f64, usize, DVec3)> = None;
+        for (k, ob) in self.scene.obstacles().get(start..end)?.iter().enumerate() {
+            if let Ok(d) = distance(&me, &ob.shape)
+                && best.is_none_or(|b| d.distance < b.0)
+            {
+                best = Some((d.distance, start + k, d.point_b));
+            }
+        }
+        let (_, id, witness) = best?;
+        Some((id, self.part_motion.get(id)?.velocity_at(witness)))
+    }
+
+    /// The velocity (m/s) of obstacle `o`'s material point nearest `p` (its
+    /// nearest part's), zero when it has none.
+    pub(super) fn approach_velocity(&self, o: usize, p: DVec3) -> DVec3 {
+        self.nearest_part(o, p).map_or(DVec3::ZERO, |(_, v)| v)
+    }
+
+    /// `id:part` (`person:leftForearm`) of the part of human obstacle `o`
+    /// nearest `p`; `None` for a primitive.
+    pub(super) fn witness_part(&self, o: usize, p: DVec3) -> Option<String> {
+        let (id, _) = self.nearest_part(o, p)?;
+        let ob = &self.obstacles[o];
+        let name = ob.part_name(*self.part_index.get(id)?)?;
+        Some(format!("{}:{name}", ob.spec.id))
+    }
+
+    /// `id:part` of scene part `id` (a human's) or `None`.
+    pub(super) fn scene_part_name(&self, id: usize) -> Option<String> {
+        let ob = &self.obstacles[*self.owners.get(id)?];
+        let name = ob.part_name(*self.part_index.get(id)?)?;
+        Some(format!("{}:{name}", ob.spec.id))
     }
 
     /// Distance from `p` to obstacle `o` as sensed (its closest part):

@@ -3,7 +3,35 @@
 //! move and how much time the transitions under way have left before a
 //! collision.
 
+use serde::Serialize;
+
 use super::World;
+use crate::avoidance::limits::braking_time;
+
+/// A pair the protective layer guarded at the last step (see
+/// [`World::guarded`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct GuardedPair {
+    /// Obstacle id (`self:<link>` for two links of the arm).
+    pub obstacle: String,
+    /// The human part, as `id:part` (absent for other obstacles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub part: Option<String>,
+    /// Skeleton segment of the arm's side.
+    pub segment: usize,
+    /// Clearance, sensing margin subtracted (m).
+    pub distance: f64,
+    /// How fast the obstacle's nearest part closes in along the pair's
+    /// normal (m/s, positive approaching): a reaching hand's own speed,
+    /// not its body's.
+    pub approach_speed: f64,
+    /// The protective separation distance (m): the safety distance plus
+    /// the room the part covers while the arm reacts and brakes,
+    /// `s + max(v, 0) (T_r + T_s)` (ISO/TS 15066's form, the arm's own
+    /// stopping handled by the guard).
+    pub protective_distance: f64,
+}
 
 /// A few numbers of the last step (see [`World::probe`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,6 +60,34 @@ impl World {
             joint_speed,
             transition_slack: self.transition_slack(),
         }
+    }
+
+    /// The pairs the protective layer guarded at the last step, with the
+    /// speed of the part that approaches and the protective distance it
+    /// asks (empty when the protective layer is off).
+    #[must_use]
+    pub fn guarded(&self) -> Vec<GuardedPair> {
+        let p = self.scenario.controller.protective;
+        let dt = if self.step_dt > 0.0 {
+            self.step_dt
+        } else {
+            self.scenario.dt
+        };
+        let reach = p.reaction_time + braking_time(&self.robot, &self.motion, dt);
+        self.guard_pairs
+            .iter()
+            .map(|g| GuardedPair {
+                obstacle: g.obstacle.map_or_else(
+                    || format!("self:{}", self.skeleton.segments[g.segment].link),
+                    |o| self.obstacles[o].spec.id.clone(),
+                ),
+                part: g.part.and_then(|id| self.scene_part_name(id)),
+                segment: g.segment,
+                distance: g.distance,
+                approach_speed: g.obstacle_speed,
+                protective_distance: p.safety_distance + g.obstacle_speed.max(0.0) * reach,
+            })
+            .collect()
     }
 
     /// The step's smallest time to collision (as the monitor computed it)

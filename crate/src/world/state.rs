@@ -24,6 +24,10 @@ pub struct ControlPointState {
     /// Id of the obstacle it answers (`self:<link>` for self-collision,
     /// `pinned:<k>` for a pinned point with no obstacle in reach).
     pub obstacle: String,
+    /// The part of a human it answers, as `id:part`
+    /// (`person:leftForearm`; absent for other obstacles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub part: Option<String>,
     /// Measured clearance (m).
     pub distance: f64,
     /// Closest point of the obstacle (m).
@@ -118,6 +122,10 @@ pub struct WorldState {
     /// Smallest clearance (m) between the arm and any obstacle (true poses)
     /// or between non-adjacent links, among pairs within reach.
     pub min_clearance: Option<f64>,
+    /// The part of a human at `minClearance`, as `id:part`
+    /// (`person:rightHand`; absent when the closest pair is not a human's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closest_part: Option<String>,
     /// The skeleton at `q`.
     pub skeleton: SkeletonState,
     /// Obstacles at their current pose.
@@ -155,6 +163,9 @@ pub struct WorldState {
 pub struct Pick {
     /// Obstacle id.
     pub id: String,
+    /// The part of a human it hit (`rightHand`; absent for other obstacles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub part: Option<String>,
     /// Where the ray meets it (m).
     pub point: [f64; 3],
     /// Distance along the ray (m).
@@ -216,10 +227,17 @@ impl World {
             .obstacles
             .iter()
             .map(|o| {
-                let shape = translated(&o.spec.shape, o.offset(self.t));
-                let parts = match &shape {
-                    ShapeSpec::Primitive(p) => vec![p.clone()],
-                    ShapeSpec::Human(h) => h.parts(),
+                let offset = o.offset(self.t);
+                let shape = translated(&o.spec.shape, offset);
+                let parts = match (&shape, &o.human) {
+                    (ShapeSpec::Primitive(p), _) => vec![p.clone()],
+                    (ShapeSpec::Human(_), Some(h)) => h
+                        .posed_at(self.t, offset, glam::DVec3::ZERO)
+                        .parts
+                        .into_iter()
+                        .map(|p| p.shape)
+                        .collect(),
+                    (ShapeSpec::Human(h), None) => h.parts(),
                 };
                 ObstacleStateOut {
                     id: o.spec.id.clone(),
@@ -234,6 +252,7 @@ impl World {
             qdot: self.motion.qdot.clone(),
             qddot: self.motion.qddot.clone(),
             min_clearance: self.min_clearance,
+            closest_part: self.closest_part.clone(),
             skeleton: SkeletonState {
                 nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
                 segments: sk

@@ -11,7 +11,7 @@ use crate::avoidance::{self, ActivePoint, ControllerConfig, Mode};
 use crate::control_point::DhPoint;
 use crate::control_point::PointMotion;
 use crate::dependability::EventKind;
-use crate::distance::{PairDistance, QueryOptions};
+use crate::distance::{PairDistance, QueryOptions, Target};
 use crate::error::FieldError;
 use crate::skeleton::Skeleton;
 use crate::transition::dh_motion;
@@ -50,7 +50,7 @@ impl World {
         // 1. sense
         let moving = self.obstacles.iter().any(super::ObstacleState::moves);
         if moving || self.scene_dirty {
-            self.rebuild_scene(self.t, true);
+            self.rebuild_scene(self.t, true, dt);
         }
         let t = self.t;
         for o in &mut self.obstacles {
@@ -109,12 +109,21 @@ impl World {
                 .map_err(|e| FieldError::new("scene", e.to_string()))
         };
         let pairs = query(&self.scene)?;
-        self.min_clearance = if self.obstacles.iter().any(|o| !o.sensor.is_exact()) {
-            let exact = query(&self.clone_scene_at(self.t))?;
-            exact.iter().map(|p| p.distance).reduce(f64::min)
+        let exact = if self.obstacles.iter().any(|o| !o.sensor.is_exact()) {
+            Some(query(&self.clone_scene_at(self.t))?)
         } else {
-            pairs.iter().map(|p| p.distance).reduce(f64::min)
+            None
         };
+        let closest = exact
+            .as_ref()
+            .unwrap_or(&pairs)
+            .iter()
+            .min_by(|a, b| a.distance.total_cmp(&b.distance));
+        self.min_clearance = closest.map(|p| p.distance);
+        self.closest_part = closest.and_then(|p| match p.target {
+            Target::Obstacle { id, .. } => self.scene_part_name(id as usize),
+            Target::Segment(_) => None,
+        });
         Ok(pairs)
     }
 
@@ -198,6 +207,8 @@ impl World {
             min_ttc = min_ttc.min(ttc);
             let approach = Approach {
                 owner,
+                obstacle_velocity: owner
+                    .map_or(DVec3::ZERO, |o| self.approach_velocity(o, position)),
                 name: &name,
                 ttc,
                 normal: ttc_normal,
@@ -206,7 +217,7 @@ impl World {
                 closing,
                 was_slow,
             };
-            self.monitor_transition(&key, &approach, cfg, dt);
+            self.monitor_transition(&key, &approach, cfg);
             let target = target.and_then(|x| {
                 DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
                     .ok()
@@ -230,6 +241,7 @@ impl World {
                 link: dh.link,
                 d: dh.d,
                 a: dh.a,
+                part: owner.and_then(|o| self.witness_part(o, position)),
                 obstacle: name,
                 distance: dist,
                 witness: witness.to_array(),
