@@ -65,7 +65,9 @@ for (const backend of ['webgpu', 'webgl2']) {
           const s = await state(page);
           const c = robotCover(s);
           assert.ok(c.inside, `${name} ${width}: the robot is inside the view`);
-          assert.ok(Math.max(c.w, c.h) >= 0.4, `${name} ${width}: robot covers ${c.w.toFixed(2)} × ${c.h.toFixed(2)} of the view`);
+          // 0.35: a person standing beside the arm (human-reach) is framed
+          // too, and a 1.75 m figure beside a 1 m arm leaves it 0.38.
+          assert.ok(Math.max(c.w, c.h) >= 0.35, `${name} ${width}: robot covers ${c.w.toFixed(2)} × ${c.h.toFixed(2)} of the view`);
           // No skeleton node is hidden under the stats or the HUD.
           const covers = await overlayRects(page);
           const hidden = s.screenNodes.filter(Boolean).filter(([x, y]) => covers.some((r) => x >= r.x && x <= r.x + r.width && y >= r.y && y <= r.y + r.height));
