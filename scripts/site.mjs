@@ -12,11 +12,15 @@ import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
 
 /**
- * The size budget of the gzipped wasm, bytes (1.65 MB): 1.5 MB until the
+ * The size budget of the gzipped wasm, bytes (1.8 MB): 1.5 MB until the
  * mesh readers came in (mesh-loader for STL, OBJ, COLLADA and gltf for
- * glTF/GLB, about 120 and 95 kB gzipped on their own), 1.61 MB with them.
+ * glTF/GLB, about 120 and 95 kB gzipped on their own), 1.61 MB with them,
+ * 1.72 MB with the articulated human, its keypoint tracks and the
+ * constraints avoidance. A budget against growth, not a goal: splitting
+ * the mesh readers into a module loaded with the first URDF is the way
+ * back under 1.5 MB.
  */
-const LIMIT = 1_650_000;
+const LIMIT = 1_800_000;
 const web = path.join(repo, 'web');
 const pkg = path.join(repo, 'crate', 'pkg');
 const dist = path.join(repo, 'dist');

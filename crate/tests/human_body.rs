@@ -406,3 +406,24 @@ fn moving_a_hand_moves_only_its_arm() {
     let e = library::move_hand(&h, "left", DVec3::new(f64::NAN, 0.0, 0.0)).unwrap_err();
     assert!(e.field.starts_with("delta"), "{e}");
 }
+
+/// A figure of almost no height (the smallest positive height passes
+/// validation) or a target at the shoulder: reach gives a valid pose, never
+/// a panic (found by the fuzz layer).
+#[test]
+fn reach_on_a_degenerate_figure_is_a_valid_pose() {
+    for height in [1e-300, 1e-12, 1.75] {
+        let h = spec(&format!(
+            r#"{{ "type": "human", "position": [0, 0, 0], "height": {height} }}"#
+        ));
+        let rest = h.rest_pose();
+        for target in [
+            DVec3::ZERO,
+            DVec3::new(0.0, 0.0, 1.4),
+            DVec3::new(0.3, 0.1, 1.2),
+        ] {
+            let pose = library::reach_pose(&h, &rest, joint::RIGHT_ARM, target);
+            pose.validate().unwrap();
+        }
+    }
+}

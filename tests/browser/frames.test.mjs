@@ -54,9 +54,10 @@ test('solids are drawn at a level of detail that follows their size on screen (W
   const { framed, far, near } = counts.webgpu;
   // The human figure, the arm's volumes, nodes and markers: a few dozen
   // solids at 140 to 540 triangles each. At the framed view, paused, this
-  // was 10 726 when written (about 16 000 running, with the control points
-  // and witnesses): the budget leaves room for a few more markers.
-  assert.ok(framed > 2000 && framed <= 18000, `framed view: ${framed} triangles`);
+  // was 10 726 when written with the rigid four-part human (about 16 000
+  // running), 22 758 with the articulated one (16 parts, a witness each):
+  // the budget leaves room for a few more markers.
+  assert.ok(framed > 2000 && framed <= 26000, `framed view: ${framed} triangles`);
   assert.ok(far < 0.6 * framed, `zoomed out: ${far} triangles, framed ${framed}`);
   assert.ok(near > framed, `zoomed in: ${near} triangles, framed ${framed}`);
   // The level of detail is the renderer's, not the backend's.

@@ -50,13 +50,17 @@ async function open(page, query = '', hash = '') {
 
 const state = (page) => page.evaluate(() => window.playground.state());
 
-/** A planar arm and a sphere well outside the influence distance. */
+/** A planar arm and a sphere well outside the influence distance. The
+ * paper's repulsion: it moves the arm as soon as the ball is inside the
+ * influence distance (the constraints avoidance rests until the safety
+ * band, and a ball dropped at a few metres per second is met by a stop;
+ * crate/tests/avoid_escape.rs covers a drag at a speed the arm can meet). */
 const dragScenario = {
   robot: { preset: 'planar3' },
   q0: [0.3, 0.5, 0.4],
   obstacles: [{ id: 'ball', shape: { type: 'sphere', center: [0.3, -0.55, 0], radius: 0.05 } }],
   task: { type: 'hold' },
-  controller: { mode: 'velocity', influenceDistance: 0.15 },
+  controller: { mode: 'velocity', avoidance: 'repulsion', influenceDistance: 0.15 },
   dt: 0.001,
   duration: 60,
 };
@@ -218,7 +222,7 @@ test('npm run build: the static site in dist/ serves the docs page on its own', 
   assert.match(built.stdout, /MB gzipped/);
   const gz = Number(/, ([\d.]+) MB gzipped/.exec(built.stdout)[1]);
   console.log(`# wasm gzipped: ${gz} MB`);
-  assert.ok(gz < 1.65, `wasm ${gz} MB gzipped (budget 1.65 MB, scripts/site.mjs)`);
+  assert.ok(gz < 1.8, `wasm ${gz} MB gzipped (budget 1.8 MB, scripts/site.mjs)`);
   const site = await serve({ port: 0, root: 'dist' });
   const browser = await launch({ webgpu: true });
   try {

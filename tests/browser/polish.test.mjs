@@ -65,9 +65,11 @@ for (const backend of ['webgpu', 'webgl2']) {
           const s = await state(page);
           const c = robotCover(s);
           assert.ok(c.inside, `${name} ${width}: the robot is inside the view`);
-          // 0.35: a person standing beside the arm (human-reach) is framed
-          // too, and a 1.75 m figure beside a 1 m arm leaves it 0.38.
-          assert.ok(Math.max(c.w, c.h) >= 0.35, `${name} ${width}: robot covers ${c.w.toFixed(2)} × ${c.h.toFixed(2)} of the view`);
+          // A person standing beside the arm (human-reach) is framed too: a
+          // 1.75 m figure beside a 1 m arm leaves the arm 0.38 of a wide
+          // view and 0.28 of a phone's.
+          const least = name === 'human-reach' ? 0.25 : 0.4;
+          assert.ok(Math.max(c.w, c.h) >= least, `${name} ${width}: robot covers ${c.w.toFixed(2)} × ${c.h.toFixed(2)} of the view`);
           // No skeleton node is hidden under the stats or the HUD.
           const covers = await overlayRects(page);
           const hidden = s.screenNodes.filter(Boolean).filter(([x, y]) => covers.some((r) => x >= r.x && x <= r.x + r.width && y >= r.y && y <= r.y + r.height));

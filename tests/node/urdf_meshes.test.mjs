@@ -43,3 +43,10 @@ test('a missing mesh is named and the robot still loads; bad meshes input is ref
   assert.throws(() => sa.fitUrdf(xml, { meshes: 3 }), { message: /^options\.meshes: expected an object/ });
   assert.throws(() => sa.fitUrdf(xml, { tipp: 'x', meshes: {} }), { message: /^options\.tipp: unknown field/ });
 });
+
+test('a revoked proxy as the meshes is refused naming the field', () => {
+  const { proxy, revoke } = Proxy.revocable({}, {});
+  revoke();
+  assert.throws(() => sa.fitUrdf(xml, { tip: 'ee_link', meshes: proxy }), /^Error: options\.meshes: could not be read/);
+  assert.throws(() => sa.robotFromUrdf(xml, { meshes: proxy }), /^Error: options\.meshes/);
+});

@@ -240,7 +240,7 @@ test('every field the runtime returns is declared, every required field is retur
   assert.deepEqual(r.radiusFrom, ['override', 'default']);
   assert.equal(r.byName, 3);
   assert.deepEqual(r.presets, ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm', 'stanford']);
-  assert.equal(r.examples, 6);
+  assert.equal(r.examples, 7);
   assert.equal(r.fk, 7);
   assert.ok(r.parts.every((p) => ['D', 'A', 'EXTENSION'].includes(p)) && r.parts.length > 5);
   assert.equal(r.cp, 3);

@@ -193,9 +193,16 @@ pub fn reach_pose(human: &HumanSpec, rest: &Pose, arm: usize, target: DVec3) -> 
     let (wrist, tip) = capsule_ends(human, rest, hand);
     let l1 = proportion::UPPER_ARM * human.height;
     let l2 = proportion::FOREARM * human.height + (tip - wrist).length();
+    if !(l1 * l2 > 1e-12 && target.is_finite()) {
+        // No arm to bend (a figure of no height) or nowhere to reach.
+        return rest.clamped();
+    }
     let r = trunk_rotation(human, rest);
     let u = r.transpose() * (target - shoulder);
-    let d = u.length().clamp((l1 - l2).abs() + 1e-9, l1 + l2 - 1e-9);
+    // Within the ring the two links reach (a degenerate body with links of
+    // no length has none: the bounds are ordered before clamping).
+    let near = (l1 - l2).abs() + 1e-9;
+    let d = u.length().clamp(near, (l1 + l2 - 1e-9).max(near));
     let dir = u.try_normalize().unwrap_or(-DVec3::Z);
     let acos = |c: f64| crate::math::acos(c.clamp(-1.0, 1.0));
     let elbow = std::f64::consts::PI - acos((l1 * l1 + l2 * l2 - d * d) / (2.0 * l1 * l2));

@@ -234,7 +234,13 @@ export function readUrdfOptions(options, maxBytes) {
   }
   const json = readJson(rest, 'options');
   if (meshes === undefined || meshes === null) return { json, meshes: undefined };
-  if (typeof meshes !== 'object' || Array.isArray(meshes)) fail('options.meshes', 'expected an object mapping paths to Uint8Array or ArrayBuffer');
+  let list = false;
+  try {
+    list = Array.isArray(meshes);
+  } catch (e) {
+    fail('options.meshes', `could not be read (${message(e)})`);
+  }
+  if (typeof meshes !== 'object' || list) fail('options.meshes', 'expected an object mapping paths to Uint8Array or ArrayBuffer');
   let names;
   try {
     names = Object.keys(meshes);

@@ -97,6 +97,10 @@ impl World {
         let parts = primitives(&shape).map_err(|e| e.within("shape"))?;
         let human = super::obstacles::human_of(&shape)?;
         let o = &mut self.obstacles[k];
+        let moved = reference_point(&shape) - o.reference;
+        if moved != DVec3::ZERO && o.spec.motion.is_none() {
+            o.dragged = super::obstacles::drag_velocity(o.dragged, moved, self.t);
+        }
         o.reference = reference_point(&shape);
         o.parts = parts;
         o.human = human;

@@ -54,6 +54,27 @@ impl PartMotion {
     }
 }
 
+/// How long the velocity of an edit holds without a further edit (s): a
+/// page moves a dragged figure once per frame (16.7 ms at 60 Hz, up to
+/// 100 ms on a slow page).
+pub(super) const DRAG_HOLD: f64 = 0.1;
+
+/// The velocity edits give a figure moved by `moved` at time `t`, after the
+/// previous edit `previous`: the move over the time since that edit; a
+/// first edit, or one after a pause of more than `4 × DRAG_HOLD`, starts
+/// at rest; a second edit within the same step keeps the estimate.
+pub(super) fn drag_velocity(
+    previous: Option<(f64, DVec3)>,
+    moved: DVec3,
+    t: f64,
+) -> Option<(f64, DVec3)> {
+    match previous {
+        Some((at, _)) if t > at && t - at <= 4.0 * DRAG_HOLD => Some((t, moved / (t - at))),
+        Some((at, v)) if t <= at => Some((at, v)),
+        _ => Some((t, DVec3::ZERO)),
+    }
+}
+
 #[derive(Clone, Debug)]
 pub(super) struct ObstacleState {
     pub(super) spec: ObstacleSpec,
@@ -61,6 +82,10 @@ pub(super) struct ObstacleState {
     pub(super) parts: Vec<Primitive>,
     /// The articulated body of a human figure.
     pub(super) human: Option<Human>,
+    /// The last edit that moved the figure: its time and the velocity the
+    /// edits give (an obstacle dragged in the playground or moved by a
+    /// sensor feed through `moveObstacle` is seen at the speed it is moved).
+    pub(super) dragged: Option<(f64, DVec3)>,
     pub(super) sensor: SensorModel,
     /// The margin of the sensing error at this step (m): the sensor's own
     /// ([`SensorModel::margin`]) plus `latency ×` the obstacle's speed.
@@ -96,6 +121,7 @@ impl ObstacleState {
             reference: reference_point(&spec.shape),
             parts,
             human,
+            dragged: None,
             margin: sensor.margin(),
             covariance: sensor.covariance(),
             switch: SwitchOdds::default(),
@@ -117,7 +143,10 @@ impl ObstacleState {
     /// approach speed.
     pub(super) fn velocity(&self, t: f64, dt: f64) -> DVec3 {
         match &self.spec.motion {
-            None | Some(crate::scenario::Motion::Static) => DVec3::ZERO,
+            None | Some(crate::scenario::Motion::Static) => match self.dragged {
+                Some((at, v)) if t - at <= DRAG_HOLD => v,
+                _ => DVec3::ZERO,
+            },
             Some(_) => {
                 let now = self.offset(t);
                 let ahead = (self.offset(t + dt) - now) / dt;
