@@ -288,3 +288,44 @@ fn an_obstacle_moved_by_edits_is_seen_moving() {
     eprintln!("dragged ball: {a:?}");
     assert!(a.admissible() && a.clearance > 0.0, "{a:?}");
 }
+
+/// A ball dragged into the arm faster than it can give way: the arm stops
+/// (contact at rest), and once the drag is over it resumes and backs out;
+/// it is not left stopped.
+#[test]
+fn a_ball_dropped_onto_the_arm_is_backed_out_of_after_the_stop() {
+    let json = r#"{ "robot": { "preset": "planar3" }, "q0": [0.3, 0.5, 0.4],
+        "obstacles": [{ "id": "ball", "shape": { "type": "sphere", "center": [0.3, -0.55, 0], "radius": 0.05 } }],
+        "task": { "type": "hold" }, "controller": { "influenceDistance": 0.15 }, "dt": 0.001, "duration": 10 }"#;
+    let s = Scenario::from_json(json).unwrap();
+    let robot = s.build_robot().unwrap();
+    let mut w = World::new(s).unwrap();
+    let f = w.frames().clone();
+    let mid = (f.transforms[1].translation + f.transforms[2].translation) * 0.5;
+    let (start, goal) = (
+        glam::DVec3::new(0.3, -0.55, 0.0),
+        mid - glam::DVec3::new(0.0, 0.11, 0.0),
+    );
+    let mut trace = skeleton_avoidance::scenario::Trace::default();
+    for k in 1..=12 {
+        w.set_obstacle_position("ball", start + (goal - start) * (f64::from(k) / 12.0))
+            .unwrap();
+        for _ in 0..2 {
+            w.step(0.001);
+            trace.samples.push(w.sample());
+        }
+    }
+    for _ in 0..1500 {
+        w.step(0.001);
+        trace.samples.push(w.sample());
+    }
+    let a = audit(&robot, &trace);
+    let end = w.state();
+    assert!(a.admissible(), "{a:?}");
+    assert!(
+        !end.stopped && end.min_clearance.unwrap() > 0.0,
+        "stopped {} clearance {:?}",
+        end.stopped,
+        end.min_clearance
+    );
+}

@@ -50,11 +50,11 @@ async function open(page, query = '', hash = '') {
 
 const state = (page) => page.evaluate(() => window.playground.state());
 
-/** A planar arm and a sphere well outside the influence distance. The
- * paper's repulsion: it moves the arm as soon as the ball is inside the
- * influence distance (the constraints avoidance rests until the safety
- * band, and a ball dropped at a few metres per second is met by a stop;
- * crate/tests/avoid_escape.rs covers a drag at a speed the arm can meet). */
+/** A planar arm and a sphere well outside the influence distance, with the
+ * paper's repulsion, which moves the arm as soon as the ball is inside the
+ * influence distance (the constraints avoidance waits for the safety band;
+ * crate/tests/avoid_escape.rs drags a ball at it). The drag drops the ball
+ * at a few metres per second: the arm stops, then backs out and gives way. */
 const dragScenario = {
   robot: { preset: 'planar3' },
   q0: [0.3, 0.5, 0.4],

@@ -48,7 +48,15 @@ impl World {
     fn step_inner(&mut self, dt: f64) -> Result<(), FieldError> {
         let cfg = self.scenario.controller.clone();
         // 1. sense
-        let moving = self.obstacles.iter().any(super::ObstacleState::moves);
+        // A figure moved by edits counts as moving until its edit velocity
+        // has expired, so that the scene (which carries each part's
+        // velocity) is rebuilt once more with the figure at rest.
+        let t = self.t;
+        let moving = self.obstacles.iter().any(|o| {
+            o.moves()
+                || o.dragged
+                    .is_some_and(|(at, _)| t - at <= 2.0 * super::obstacles::DRAG_HOLD)
+        });
         if moving || self.scene_dirty {
             self.rebuild_scene(self.t, true, dt);
         }
