@@ -45,22 +45,18 @@ pub struct Risk {
 }
 
 /// The switch odds of the closest pair `best` of one obstacle against its
-/// other pairs in `pairs` (those `mine` accepts): each other segment's own
-/// closest pair counts when its witness is farther than `jump` from
-/// `best`'s. Also returns that likeliest alternative pair.
+/// other pairs `pairs`: each other segment's own closest pair counts when
+/// its witness is farther than `jump` from `best`'s. Also returns that
+/// likeliest alternative pair.
 pub(super) fn segment_odds<'a>(
-    pairs: &'a [PairDistance],
+    pairs: impl IntoIterator<Item = &'a PairDistance>,
     best: &PairDistance,
-    mine: impl Fn(&PairDistance) -> bool,
     jump: f64,
     covariance: &Covariance,
 ) -> (SwitchOdds, Option<&'a PairDistance>) {
     let mut others: BTreeMap<usize, &PairDistance> = BTreeMap::new();
     for p in pairs {
-        if mine(p)
-            && p.segment != best.segment
-            && (p.point_segment - best.point_segment).length() > jump
-        {
+        if p.segment != best.segment && (p.point_segment - best.point_segment).length() > jump {
             let e = others.entry(p.segment).or_insert(p);
             if p.distance < e.distance {
                 *e = p;
@@ -211,7 +207,7 @@ impl World {
         };
         let covariance = SensorModel::from_spec(sensing, 0).covariance();
         let jump = self.scenario.controller.jump_threshold;
-        let (odds, _) = segment_odds(&pairs, best, |_| true, jump, &covariance);
+        let (odds, _) = segment_odds(&pairs, best, jump, &covariance);
         Ok(Risk {
             clearance: best.distance,
             switch_probability: odds.probability,
