@@ -303,6 +303,13 @@ impl World {
         let me = Primitive::Point(p);
         let start = self.owners.partition_point(|&x| x < o);
         let end = self.owners.partition_point(|&x| x <= o);
+        // One part moving as a whole (every primitive): no distance needed.
+        if end == start + 1
+            && let Some(m) = self.part_motion.get(start)
+            && m.va == m.vb
+        {
+            return Some((start, m.va));
+        }
         let mut best: Option<(f64, usize, DVec3)> = None;
         for (k, ob) in self.scene.obstacles().get(start..end)?.iter().enumerate() {
             if let Ok(d) = distance(&me, &ob.shape)

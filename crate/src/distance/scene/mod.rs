@@ -248,9 +248,12 @@ impl Scene {
             for &j in &candidates {
                 let o = &self.obstacles[j];
                 // Mid-phase: the exact distance from the axis to the
-                // obstacle's box rules out most candidates of the box test.
+                // obstacle's box rules out most candidates of the box test
+                // (not worth it for a ball or a point, whose exact distance
+                // costs less than the box's).
                 let b = &self.bounds[j];
                 if options.broad_phase == BroadPhase::Hierarchy
+                    && !matches!(o.shape, Primitive::Sphere(_) | Primitive::Point(_))
                     && b.is_finite()
                     && segment_aabb_distance2(s0, s1, b.min, b.max) > reach2
                 {
