@@ -41,7 +41,7 @@ const layers = [
     if (buildWasm('node') !== 0) return 1;
     return run('node', ['--test', ...testFiles('tests/fuzz')]);
   }],
-  ['package', 'npm pack; install into temp projects: tsc against the runtime, Node (ESM, CJS), Vite, webpack, esbuild, a plain page in Chromium', () => {
+  ['package', 'npm pack; install into temp projects: tsc against the runtime, Node (ESM, CJS), Vite, webpack, esbuild, a plain page, the compat entries in Chromium', () => {
     if (!buildPackage()) return 1;
     return run('node', ['--test', '--test-concurrency=1', ...testFiles('tests/package')]);
   }],
