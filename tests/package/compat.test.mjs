@@ -1,8 +1,9 @@
 // `skeleton-avoidance/compat` and `skeleton-avoidance/compat/element`: the
 // entries with the WebAssembly inlined (base64), for bundlers and hosts that
 // cannot serve or locate a separate .wasm file. The packed tarball is
-// installed into a fresh project and bundled by esbuild, and the bundle is
-// served WITHOUT any .wasm file: the page must import `World` and `simulate`
+// installed into a fresh project and bundled by esbuild (and by Vite, which
+// must not emit the wasm as an asset), and the bundle is served WITHOUT any
+// .wasm file: the page must import `World` and `simulate`
 // and run them, draw `<skeleton-playground scenario="human-panda">`, request
 // no .wasm, and show no failed request and no console error. A page whose
 // Content-Security-Policy forbids compiling WebAssembly gets one Error that
@@ -47,6 +48,18 @@ test('esbuild, compat: the bundle runs and draws with no .wasm file anywhere', a
   const bundled = fs.readFileSync(path.join(dist, 'main.js'), 'utf8');
   assert.doesNotMatch(bundled, /skeleton_avoidance_bg\.wasm/, 'the compat bundle still names the .wasm file');
   await served(dist, (url) => checkPage(url, 'esbuild compat'));
+});
+
+test('Vite build, compat: the production bundle emits no .wasm and runs and draws', async () => {
+  const { build } = await import('vite');
+  const dir = path.join(project, 'vite-compat');
+  fs.mkdirSync(dir, { recursive: true });
+  fs.writeFileSync(path.join(dir, 'main.js'), app('skeleton-avoidance/compat'));
+  fs.writeFileSync(path.join(dir, 'index.html'), HTML('<script type="module" src="./main.js"></script>'));
+  const dist = path.join(dir, 'dist');
+  await build({ root: dir, configFile: false, logLevel: 'warn', build: { outDir: dist, emptyOutDir: true, chunkSizeWarningLimit: 8000 } });
+  checkBudget('vite compat', dist, { inlined: true });
+  await served(dist, (url) => checkPage(url, 'vite compat'));
 });
 
 test('compat on a page whose Content-Security-Policy forbids WebAssembly: one Error naming the entry and the cause', async () => {
