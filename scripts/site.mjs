@@ -44,9 +44,14 @@ if (!tarball) process.exit(1);
 
 fs.rmSync(dist, { recursive: true, force: true });
 fs.mkdirSync(dist, { recursive: true });
-unpackPackage(tarball, dist);
-const pages = fs.readdirSync(web).filter((f) => f.endsWith('.html'));
-const own = writePages(dist, pages);
+let own;
+try {
+  unpackPackage(tarball, dist);
+  own = writePages(dist, fs.readdirSync(web).filter((f) => f.endsWith('.html')));
+} catch (err) {
+  console.error(err instanceof Error ? err.message : err);
+  process.exit(1);
+}
 
 const wasm = fs.readFileSync(path.join(dist, PACKAGE_DIR, 'web', 'skeleton_avoidance_bg.wasm'));
 // Level 6, as `gzip -c` (and most servers) compress.
