@@ -8,12 +8,15 @@
 // for Node, index.web.js for browsers and bundlers) and the hand-written
 // declarations package/index.d.ts. The entries export exactly what the
 // declarations declare (benchmark helpers stay out of the public API), and
-// the script fails if a declared export is missing from the module.
+// the script fails if a declared export is missing from the module. element/
+// holds `skeleton-avoidance/element`; compat/ the entries with the wasm
+// inlined (scripts/package-compat.mjs).
 import fs from 'node:fs';
 import path from 'node:path';
 import { createRequire } from 'node:module';
 import { repo, capture } from './lib.mjs';
 import { buildWasm } from './build.mjs';
+import { writeCompat } from './package-compat.mjs';
 
 const out = path.join(repo, 'target', 'npm');
 const pkgDir = path.join(out, 'package');
@@ -83,13 +86,13 @@ function localImports(dir, file) {
 }
 
 /**
- * `skeleton-avoidance/element`: web/embed.js and every widget module it
- * reaches (the study worker included), copied as they are into element/,
- * except wasm.js, which here imports the package's web build.
+ * An element folder: web/embed.js and every widget module it reaches (the
+ * study worker included), copied as they are into `dir` (a folder of the
+ * package), except wasm.js, which here imports the wasm-bindgen module
+ * `glue` (relative to `dir`) statically, so that bundlers see it.
  */
-function copyElement() {
+function copyElement(dir, glue, loadError) {
   const web = path.join(repo, 'web');
-  const dir = path.join(pkgDir, 'element');
   fs.mkdirSync(dir, { recursive: true });
   const seen = new Set();
   const queue = ['embed.js'];
@@ -103,10 +106,10 @@ function copyElement() {
   }
   fs.writeFileSync(
     path.join(dir, 'wasm.js'),
-    `${HEADER}import init, * as wasm from '../web/skeleton_avoidance.js';\n\n` +
+    `${HEADER}import init, * as wasm from '${glue}';\n\n` +
       `let ready = null;\n\n` +
       `/** Loads and initialises the wasm once per page; resolves to the module's exports. */\n` +
-      `export function loadWasm() {\n  ready ??= init().then(() => wasm, (err) => {\n    ${LOAD_ERROR}\n  });\n  return ready;\n}\n`,
+      `export function loadWasm() {\n  ready ??= init().then(() => wasm, (err) => {\n    ${loadError}\n  });\n  return ready;\n}\n`,
   );
 }
 
@@ -114,6 +117,14 @@ function copy(from, to, files) {
   fs.mkdirSync(to, { recursive: true });
   for (const f of files) fs.copyFileSync(path.join(from, f), path.join(to, f));
 }
+
+/**
+ * The budget of the packed tarball, bytes: 2.30 MB with the two builds (web
+ * and Node), 5.21 MB with the compat entries' inlined copy of the web wasm
+ * (2.9 MB more: base64 compresses less well than the binary), measured
+ * 2026-11-24.
+ */
+const PACKED_BUDGET = 6_000_000;
 
 export function buildPackage({ build = true } = {}) {
   if (build && (buildWasm('node') !== 0 || buildWasm('web') !== 0)) return null;
@@ -142,7 +153,9 @@ export function buildPackage({ build = true } = {}) {
     return null;
   }
   writeEntries(names);
-  copyElement();
+  // `skeleton-avoidance/element`: the widget on the package's web build.
+  copyElement(path.join(pkgDir, 'element'), '../web/skeleton_avoidance.js', LOAD_ERROR);
+  if (!writeCompat(pkgDir, names, copyElement)) return null;
   const packed = capture('npm', ['pack', '--json', '--pack-destination', out], { cwd: pkgDir });
   if (packed.status !== 0) {
     console.error(packed.stderr);
@@ -150,7 +163,11 @@ export function buildPackage({ build = true } = {}) {
   }
   const info = JSON.parse(packed.stdout)[0];
   const tarball = path.join(out, info.filename);
-  console.log(`package: ${path.relative(repo, tarball)}: ${(info.size / 1e6).toFixed(2)} MB packed, ${(info.unpackedSize / 1e6).toFixed(2)} MB unpacked, ${info.entryCount} files`);
+  console.log(`package: ${path.relative(repo, tarball)}: ${(info.size / 1e6).toFixed(2)} MB packed, ${(info.unpackedSize / 1e6).toFixed(2)} MB unpacked, ${info.entryCount} files (budget ${PACKED_BUDGET / 1e6} MB packed)`);
+  if (info.size > PACKED_BUDGET) {
+    console.error('package: the packed package is over its budget');
+    return null;
+  }
   return tarball;
 }
 

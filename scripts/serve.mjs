@@ -1,6 +1,7 @@
 // Static server for the playground: web/ at "/", the wasm package crate/pkg at
 // "/pkg/". No dependencies; used by `npm start` and by the browser tests.
-// With `--root dist` it serves the built site as it is (its own pkg/); any
+// With `--root dist` it serves the built site as it is (the npm package's
+// files in skeleton-avoidance/, scripts/site.mjs); any
 // other folder (an absolute path) is served as it is too.
 //
 //   node scripts/serve.mjs [--port 8080] [--host 127.0.0.1] [--root web|dist]

@@ -1,15 +1,22 @@
 // `npm run build`: the static site in dist/ — the playground page, the
-// documentation page, the embeddable element and the wasm package — ready
-// for any static host (every path is relative).
+// documentation page, the embedding example and the primitive gallery, on the
+// npm package's own files — ready for any static host (every path is
+// relative).
 //
 //   node scripts/site.mjs [--no-wasm]
-//   (--no-wasm reuses crate/pkg as it is)
+//   (--no-wasm reuses crate/pkg and crate/pkg-node as they are)
+//
+// The package is built and packed first (scripts/package.mjs); its browser
+// files are unpacked from the tarball into dist/skeleton-avoidance/ and the
+// pages of web/ run on them (scripts/site-pages.mjs), so the site shows
+// exactly what `npm install skeleton-avoidance` gives.
 import fs from 'node:fs';
 import path from 'node:path';
 import zlib from 'node:zlib';
 import { repo } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
-import { buildWasm } from './build.mjs';
+import { buildPackage } from './package.mjs';
+import { PACKAGE_DIR, unpackPackage, writePages } from './site-pages.mjs';
 
 /**
  * The size budget of the gzipped wasm, bytes (1.8 MB): 1.5 MB until the
@@ -22,39 +29,35 @@ import { buildWasm } from './build.mjs';
  */
 const LIMIT = 1_800_000;
 const web = path.join(repo, 'web');
-const pkg = path.join(repo, 'crate', 'pkg');
 const dist = path.join(repo, 'dist');
 
-if (!process.argv.includes('--no-wasm')) {
-  if (!ensureTools({ browser: false })) process.exit(1);
-  if (buildWasm('web') !== 0) process.exit(1);
+const build = !process.argv.includes('--no-wasm');
+if (build && !ensureTools({ browser: false })) process.exit(1);
+for (const dir of build ? [] : ['pkg', 'pkg-node']) {
+  if (!fs.existsSync(path.join(repo, 'crate', dir, 'skeleton_avoidance_bg.wasm'))) {
+    console.error(`site: crate/${dir} has no wasm; run without --no-wasm`);
+    process.exit(1);
+  }
 }
-if (!fs.existsSync(path.join(pkg, 'skeleton_avoidance_bg.wasm'))) {
-  console.error('site: crate/pkg has no wasm; run without --no-wasm');
+const tarball = buildPackage({ build });
+if (!tarball) process.exit(1);
+
+fs.rmSync(dist, { recursive: true, force: true });
+fs.mkdirSync(dist, { recursive: true });
+let own;
+try {
+  unpackPackage(tarball, dist);
+  own = writePages(dist, fs.readdirSync(web).filter((f) => f.endsWith('.html')));
+} catch (err) {
+  console.error(err instanceof Error ? err.message : err);
   process.exit(1);
 }
 
-fs.rmSync(dist, { recursive: true, force: true });
-fs.mkdirSync(path.join(dist, 'pkg'), { recursive: true });
-for (const f of fs.readdirSync(web)) {
-  if (/\.(html|js|css|json|svg|png)$/.test(f)) fs.copyFileSync(path.join(web, f), path.join(dist, f));
-}
-for (const f of ['skeleton_avoidance.js', 'skeleton_avoidance_bg.wasm', 'skeleton_avoidance.d.ts', 'package.json']) {
-  if (fs.existsSync(path.join(pkg, f))) fs.copyFileSync(path.join(pkg, f), path.join(dist, 'pkg', f));
-}
-// The JS the module imports beside itself (the input boundary, wasm-bindgen's snippets/).
-if (fs.existsSync(path.join(pkg, 'snippets'))) {
-  fs.cpSync(path.join(pkg, 'snippets'), path.join(dist, 'pkg', 'snippets'), { recursive: true });
-}
-
-// The release build of crate/pkg is already shrunk by wasm-opt -Oz
-// (scripts/build.mjs, cached by hash).
-const wasmPath = path.join(dist, 'pkg', 'skeleton_avoidance_bg.wasm');
-const wasm = fs.readFileSync(wasmPath);
+const wasm = fs.readFileSync(path.join(dist, PACKAGE_DIR, 'web', 'skeleton_avoidance_bg.wasm'));
 // Level 6, as `gzip -c` (and most servers) compress.
 const gz = zlib.gzipSync(wasm, { level: 6 }).length;
 const mb = (n) => (n / 1e6).toFixed(3);
-console.log(`site: dist/ written (${fs.readdirSync(dist).length} entries); wasm ${mb(wasm.length)} MB, ${mb(gz)} MB gzipped (limit ${mb(LIMIT)} MB)`);
+console.log(`site: dist/ written: ${own.join(', ')} on ${PACKAGE_DIR}/ (from ${path.relative(repo, tarball)}); wasm ${mb(wasm.length)} MB, ${mb(gz)} MB gzipped (limit ${mb(LIMIT)} MB)`);
 if (gz > LIMIT) {
   console.error('site: the wasm is over the size limit');
   process.exit(1);

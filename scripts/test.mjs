@@ -41,12 +41,13 @@ const layers = [
     if (buildWasm('node') !== 0) return 1;
     return run('node', ['--test', ...testFiles('tests/fuzz')]);
   }],
-  ['package', 'npm pack; install into temp projects: tsc against the runtime, Node (ESM, CJS), Vite, webpack, esbuild, a plain page in Chromium', () => {
+  ['package', 'npm pack; install into temp projects: tsc against the runtime, Node (ESM, CJS), Vite, webpack, esbuild, a plain page, the compat entries, the docs pages on the package alone in Chromium', () => {
     if (!buildPackage()) return 1;
     return run('node', ['--test', '--test-concurrency=1', ...testFiles('tests/package')]);
   }],
   ['browser', 'the pages in headless Chromium (WebGPU and WebGL2)', () => {
-    if (buildWasm('web') !== 0) return 1;
+    // Both builds: the tests of the built site pack the npm package (scripts/site.mjs).
+    if (buildWasm('web') !== 0 || buildWasm('node') !== 0) return 1;
     return run('node', ['--test', '--test-concurrency=1', ...testFiles('tests/browser')]);
   }],
 ];

@@ -134,6 +134,9 @@ test('the packed package installs, type-checks with tsc and runs in Node', () =>
     const esmKeys = sh(process.execPath, ['--input-type=module', '-e', "import * as sa from 'skeleton-avoidance'; console.log(JSON.stringify(Object.keys(sa).sort()))"], dir);
     assert.deepEqual(c.keys, JSON.parse(esmKeys.out.trim()), 'require and import give the same names');
     assert.ok(c.keys.includes('Viewer') && c.keys.includes('World'));
+    // `skeleton-avoidance/compat` in Node is the Node entry (import and require).
+    const compatKeys = sh(process.execPath, ['--input-type=module', '-e', "import * as sa from 'skeleton-avoidance/compat'; import { createRequire } from 'node:module'; const r = createRequire(import.meta.url)('skeleton-avoidance/compat'); console.log(JSON.stringify([Object.keys(sa).sort(), Object.keys(r).sort(), sa.simulate === r.simulate]))"], dir);
+    assert.deepEqual(JSON.parse(compatKeys.out.trim()), [c.keys, c.keys, true], compatKeys.out);
     assert.match(c.viewer, /browser/, 'Viewer in Node says it needs a browser');
     // Benchmark helpers are not part of the package's API.
     const entry = fs.readFileSync(path.join(dir, 'node_modules', 'skeleton-avoidance', 'index.node.js'), 'utf8');

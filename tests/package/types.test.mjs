@@ -190,9 +190,17 @@ export function misuses(): void {
 }
 `;
 
-// `skeleton-avoidance/element` as a page's TypeScript uses it.
+// `skeleton-avoidance/element` as a page's TypeScript uses it, and the compat
+// entries (the same declarations).
 const ELEMENT = `
 import { SkeletonPlayground, Playground, loadWasm } from 'skeleton-avoidance/element';
+import { World as CompatWorld, presetNames } from 'skeleton-avoidance/compat';
+import { SkeletonPlayground as CompatElement } from 'skeleton-avoidance/compat/element';
+import type { World } from 'skeleton-avoidance';
+
+export const compatWorld: typeof World = CompatWorld;
+export const compatPresets: string[] = presetNames();
+export const compatReady = (e: CompatElement): Promise<number> => e.ready.then((pg) => pg.world?.time ?? 0);
 
 const made: SkeletonPlayground = document.createElement('skeleton-playground');
 made.setAttribute('scenario', 'human-panda');
