@@ -52,6 +52,8 @@ pub struct Solution {
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
     hinv: Vec<f64>,
+    /// The Cholesky factor `L` of `H`.
+    l: Vec<f64>,
     /// `J = L⁻ᵀ Q`, row-major `n × n`.
     j: Vec<f64>,
     /// `R`, upper triangular, row-major `n × n` (the first `q` columns used).
@@ -173,7 +175,9 @@ impl Constraints<'_> {
 /// `J = L⁻ᵀ` of `h = L Lᵀ` into `ws.j`; `false` when `h` is not positive
 /// definite.
 fn factor(h: &[f64], n: usize, ws: &mut Workspace) -> bool {
-    let mut l = vec![0.0; n * n];
+    let l = &mut ws.l;
+    l.clear();
+    l.resize(n * n, 0.0);
     for i in 0..n {
         for j in 0..=i {
             let s = h[i * n + j] - (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum::<f64>();
@@ -234,11 +238,10 @@ pub fn solve(
     let mut steps = 0;
     if factor(&h.data, n, ws) {
         // The unconstrained optimum H⁻¹f = J Jᵀ f.
-        let jt_f: Vec<f64> = (0..n)
-            .map(|c| (0..n).map(|r| ws.j[r * n + c] * f[r]).sum())
-            .collect();
+        ws.d.clear();
+        ws.d.extend((0..n).map(|c| (0..n).map(|r| ws.j[r * n + c] * f[r]).sum::<f64>()));
         for (i, xi) in x.iter_mut().enumerate() {
-            *xi = (0..n).map(|c| ws.j[i * n + c] * jt_f[c]).sum();
+            *xi = (0..n).map(|c| ws.j[i * n + c] * ws.d[c]).sum();
         }
         steps = active_set(&cons, ws, x);
     }

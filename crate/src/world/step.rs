@@ -322,7 +322,7 @@ impl World {
         let switched = tracker.owner.is_some() && owner.is_some() && tracker.owner != owner;
         tracker.owner = owner;
         if let Some(o) = owner {
-            self.monitor_chattering(&mut tracker, &format!("pinned:{k}"), switched, o);
+            self.monitor_chattering(&mut tracker, &Key::Pinned(k), switched, o);
         }
         self.trackers.insert(key.clone(), tracker);
         owner

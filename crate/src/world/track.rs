@@ -207,10 +207,12 @@ impl World {
             tracker
                 .mover
                 .update(&self.skeleton, at, dt, &settings, &mut point_events)?;
-            let name = self.name(key);
-            self.push_point_events(&name, &mut point_events);
+            if !point_events.is_empty() {
+                let name = self.name(key);
+                self.push_point_events(&name, &mut point_events);
+            }
             let hold = tracker.mover.point().segment;
-            self.monitor_chattering(&mut tracker, &name, jumped, hold);
+            self.monitor_chattering(&mut tracker, key, jumped, hold);
             self.trackers.insert(key.clone(), tracker);
         }
         if config.selection == crate::avoidance::Selection::Pinned {
@@ -230,7 +232,7 @@ impl World {
     pub(super) fn monitor_chattering(
         &mut self,
         tracker: &mut Tracker,
-        name: &str,
+        key: &Key,
         switched: bool,
         hold: usize,
     ) {
@@ -246,6 +248,7 @@ impl World {
         if !rising {
             return;
         }
+        let name = self.name(key);
         self.push(EventKind::Chattering {
             obstacle: name.to_owned(),
             switches,
