@@ -47,7 +47,7 @@ export function buildWasm(which, { dev = false } = {}) {
   if (status !== 0 || which !== 'web' || dev) return status;
   const gz = shrinkWasm(path.join(repo, 'crate', 'pkg', 'skeleton_avoidance_bg.wasm'));
   if (gz < 0) return 1;
-  console.log(`build: crate/pkg wasm ${(gz / 1e6).toFixed(3)} MB gzipped (budget 1.65 MB)`);
+  console.log(`build: crate/pkg wasm ${(gz / 1e6).toFixed(3)} MB gzipped (budget 1.8 MB, scripts/site.mjs)`);
   return 0;
 }
 
