@@ -37,6 +37,7 @@ export const presetMeshMethods = {
     const base = this.options.presetMeshes;
     const name = presetName(this.scenario?.robot);
     const entry = base && name ? PRESET_MESHES[name] : null;
+    this.presetMeshesShown = null; // setRobot has just dropped any meshes
     if (!entry) return;
     this.presetFiles ??= {};
     const robotSpec = this.robotSpec;
