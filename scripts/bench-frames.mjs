@@ -3,9 +3,16 @@
 // SwiftShader), 1280×800, running. Per example and backend: the median over
 // a few windows of the frames per second, the 90th percentile of the frame
 // interval, the CPU time Chromium's GPU process spent per frame (Linux
-// only: read from /proc) and the triangles drawn. A frame rate depends on
+// only: read from /proc) and the triangles drawn. An example on the Panda
+// or UR5 preset is measured once its meshes are drawn (the playground
+// fetches them, web/preset-meshes.js). Then a heavier mesh, the iiwa 14's,
+// in the human-panda scene (MESH_ROWS). The load average is
+// printed beside the table: the machine is shared. A frame rate depends on
 // the machine: this is a measurement with a goal beside it, not a test.
 import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { repo } from './lib.mjs';
 import { serve } from './serve.mjs';
 import { buildWasm } from './build.mjs';
 
@@ -42,10 +49,52 @@ const timestamps = (page, ms) => page.evaluate((ms) => new Promise((resolve) => 
 
 const median = (xs) => xs.slice().sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 
+/**
+ * Robots drawn with their collision meshes (crate/tests/data, licences
+ * there) in an example's scene: the URDF, fitted to its meshes, replaces the
+ * example's robot (its obstacles, task and controller kept), and the viewer
+ * draws the meshes under the volumes.
+ */
+const MESH_ROWS = [
+  { name: 'iiwa14+meshes', example: 'human-panda', urdf: 'iiwa14_mesh_collision.urdf', meshes: 'iiwa14/collision' },
+];
+
+/** `{ xml, meshes: { path: base64 } }` of a mesh row. */
+function meshRowFiles(row) {
+  const data = path.join(repo, 'crate', 'tests', 'data');
+  const dir = path.join(data, 'meshes', row.meshes);
+  const meshes = Object.fromEntries(fs.readdirSync(dir).filter((f) => /\.stl$/i.test(f))
+    .map((f) => [`${row.meshes}/${f}`, fs.readFileSync(path.join(dir, f)).toString('base64')]));
+  return { xml: fs.readFileSync(path.join(data, 'urdf', row.urdf), 'utf8'), meshes, tip: row.tip };
+}
+
+/** Replaces the page's robot by a mesh row's URDF with its meshes drawn (after the example loaded). */
+const withMeshes = (page, files) => page.evaluate(({ xml, meshes, tip }) => {
+  const app = window.playground.app;
+  const bytes = Object.fromEntries(Object.entries(meshes).map(([k, b64]) => [k, Uint8Array.from(atob(b64), (c) => c.charCodeAt(0))]));
+  const options = { meshes: bytes, ...(tip ? { tip } : {}) };
+  const fit = app.wasm.fitUrdf(xml, options);
+  if (fit.problems.length) throw new Error(fit.problems.join('; '));
+  if (app.loadScenario({ ...app.scenario, robot: fit.robot }, 'with meshes')) throw new Error('the scenario with the URDF robot was refused');
+  app.viewer.setUrdf(xml, options);
+  app.drawWorld();
+  app.fit();
+}, files);
+
 /** One example on one backend: `{ fps, p90, gpuMs, triangles }` (medians over the windows). */
-async function measure(page, url, name, backend) {
+async function measure(page, url, name, backend, files = null) {
   await page.goto(`${url}?scenario=${name}&backend=${backend}`);
   await page.evaluate(() => window.playground.ready);
+  if (files) await withMeshes(page, files);
+  else {
+    // A preset with meshes: measured with them drawn.
+    await page.waitForFunction(() => {
+      const app = window.playground.app;
+      const robot = app.scenario.robot;
+      const preset = typeof robot === 'string' ? robot : robot?.preset;
+      return !['panda', 'ur5'].includes(preset) || app.presetMeshesShown === preset;
+    }, null, { timeout: 60000 });
+  }
   await page.waitForTimeout(1000);
   const fps = [];
   const p90 = [];
@@ -63,6 +112,8 @@ async function measure(page, url, name, backend) {
   return { fps: median(fps), p90: median(p90), gpuMs: gpuMs.length ? median(gpuMs) : NaN, triangles };
 }
 
+const loadAverage = () => os.loadavg().map((x) => x.toFixed(2)).join(' ');
+
 /** Prints the frame-rate table; returns false when the page could not be measured. */
 export async function frameTable(examples) {
   if (buildWasm('web') !== 0) return false;
@@ -74,13 +125,19 @@ export async function frameTable(examples) {
     console.log('\n=== playground frame rate: headless Chromium, software rendering (SwiftShader), 1280×800, running');
     console.log(`(median of ${WINDOWS} windows of ${WINDOW_MS / 1000} s; GPU ms = CPU time of Chromium's GPU process per frame, on two cores)`);
     console.log(`${'example'.padEnd(20)} ${'backend'.padEnd(8)} ${'fps'.padStart(6)} ${'p90 ms'.padStart(7)} ${'GPU ms'.padStart(7)} ${'triangles'.padStart(10)}  goal`);
-    for (const name of examples) {
+    const before = loadAverage();
+    const rows = [
+      ...examples.map((name) => ({ name, example: name, files: null })),
+      ...MESH_ROWS.map((row) => ({ name: row.name, example: row.example, files: meshRowFiles(row) })),
+    ];
+    for (const { name, example, files } of rows) {
       for (const backend of ['webgpu', 'webgl2']) {
-        const m = await measure(page, url, name, backend);
+        const m = await measure(page, url, example, backend, files);
         const goal = backend === 'webgpu' ? `≥ 50 fps ${m.fps >= 50 ? '(met)' : '(NOT met)'}` : '(reported)';
         console.log(`${name.padEnd(20)} ${backend.padEnd(8)} ${m.fps.toFixed(1).padStart(6)} ${m.p90.toFixed(1).padStart(7)} ${m.gpuMs.toFixed(1).padStart(7)} ${String(m.triangles).padStart(10)}  ${goal}`);
       }
     }
+    console.log(`load average (1, 5, 15 min) before the table: ${before}; after it: ${loadAverage()} on ${os.cpus().length} cores (the measurement itself keeps about two busy; more before it is other work)`);
     return true;
   } finally {
     await browser.close();

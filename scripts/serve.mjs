@@ -1,5 +1,6 @@
 // Static server for the playground: web/ at "/", the wasm package crate/pkg at
-// "/pkg/". No dependencies; used by `npm start` and by the browser tests.
+// "/pkg/", the presets' meshes (crate/tests/data) at "/robots/". No
+// dependencies; used by `npm start` and by the browser tests.
 // With `--root dist` it serves the built site as it is (the npm package's
 // files in skeleton-avoidance/, scripts/site.mjs); any
 // other folder (an absolute path) is served as it is too.
@@ -27,7 +28,7 @@ const TYPES = {
 /** Starts the server; resolves to `{ server, url }` once it listens. */
 export function serve({ port = 8080, host = '127.0.0.1', root = 'web' } = {}) {
   const mounts = [
-    ...(root === 'web' ? [['/pkg/', path.join(repo, 'crate', 'pkg')]] : []),
+    ...(root === 'web' ? [['/pkg/', path.join(repo, 'crate', 'pkg')], ['/robots/', path.join(repo, 'crate', 'tests', 'data')]] : []),
     ['/', path.resolve(repo, root)],
   ];
   const server = http.createServer((req, res) => {

@@ -17,6 +17,7 @@ import { repo } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildPackage } from './package.mjs';
 import { PACKAGE_DIR, unpackPackage, writePages } from './site-pages.mjs';
+import { PRESET_MESHES } from '../web/preset-meshes.js';
 
 /**
  * The size budget of the gzipped wasm, bytes (1.8 MB): 1.5 MB until the
@@ -28,6 +29,12 @@ import { PACKAGE_DIR, unpackPackage, writePages } from './site-pages.mjs';
  * back under 1.5 MB.
  */
 const LIMIT = 1_800_000;
+/**
+ * The size budget of dist/robots/ (bytes, uncompressed): the Panda's and the
+ * UR5's URDFs, collision meshes and licences, fetched by the playground only
+ * when one of those presets is shown (web/preset-meshes.js). 0.45 MB now.
+ */
+const ROBOTS_LIMIT = 600_000;
 const web = path.join(repo, 'web');
 const dist = path.join(repo, 'dist');
 
@@ -60,5 +67,25 @@ const mb = (n) => (n / 1e6).toFixed(3);
 console.log(`site: dist/ written: ${own.join(', ')} on ${PACKAGE_DIR}/ (from ${path.relative(repo, tarball)}); wasm ${mb(wasm.length)} MB, ${mb(gz)} MB gzipped (limit ${mb(LIMIT)} MB)`);
 if (gz > LIMIT) {
   console.error('site: the wasm is over the size limit');
+  process.exit(1);
+}
+
+// The presets' meshes, their URDFs, licences and the notes naming their
+// sources (crate/tests/data), loaded lazily by the playground.
+const data = path.join(repo, 'crate', 'tests', 'data');
+const robotFiles = new Set(['meshes/README.md', 'urdf/README.md']);
+for (const entry of Object.values(PRESET_MESHES)) {
+  for (const f of [entry.urdf, ...entry.licences, ...entry.meshes]) robotFiles.add(f);
+}
+let robotBytes = 0;
+for (const f of robotFiles) {
+  const to = path.join(dist, 'robots', f);
+  fs.mkdirSync(path.dirname(to), { recursive: true });
+  fs.copyFileSync(path.join(data, f), to);
+  robotBytes += fs.statSync(to).size;
+}
+console.log(`site: dist/robots/ ${robotFiles.size} files, ${mb(robotBytes)} MB (limit ${mb(ROBOTS_LIMIT)} MB; fetched only with the Panda or UR5 preset)`);
+if (robotBytes > ROBOTS_LIMIT) {
+  console.error('site: the preset meshes are over their size budget');
   process.exit(1);
 }

@@ -66,6 +66,7 @@ export class SkeletonPlayground extends HTMLElement {
       keyboardTarget: this.hasAttribute('fill') ? window : undefined,
       captureWheel: this.hasAttribute('fill'),
       share: this.hasAttribute('share'),
+      presetMeshes: this.getAttribute('preset-meshes') ?? undefined,
     });
     this.playground = pg;
     if (this.hasAttribute('paused')) pg.toggleRun();

@@ -12,6 +12,7 @@ import { wireInput } from './input.js';
 import { readoutMethods } from './readouts.js';
 import { sceneMethods } from './scene-edits.js';
 import { urdfMethods } from './urdf-files.js';
+import { presetMeshMethods } from './preset-meshes.js';
 import { pinMethods, withoutPins } from './pinning.js';
 import { PRESETS, applyDh, buildPanel, fillPresets, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
 import { TimePlot } from './plots.js';
@@ -267,6 +268,7 @@ export class Playground {
     this.refreshPanel();
     this.fit();
     if (label !== 'shared scenario') this.forgetShareLink();
+    this.showPresetMeshes();
     return null;
   }
 
@@ -571,4 +573,4 @@ export class Playground {
   }
 }
 
-Object.assign(Playground.prototype, sceneMethods, readoutMethods, pinMethods, urdfMethods);
+Object.assign(Playground.prototype, sceneMethods, readoutMethods, pinMethods, urdfMethods, presetMeshMethods);

@@ -59,8 +59,11 @@ async function capped(stream, cap, name) {
   return out;
 }
 
-/** The files of a zip archive (stored or deflated entries), within the caps. */
-export async function unzip(bytes, name, problems) {
+/**
+ * The files of a zip archive (stored or deflated entries), within the caps:
+ * `budget` bytes in all (what the other files left of MAX_TOTAL_BYTES).
+ */
+export async function unzip(bytes, name, problems, budget = MAX_TOTAL_BYTES) {
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
   let eocd = -1;
   for (let i = bytes.length - 22; i >= Math.max(0, bytes.length - 65557); i--) {
@@ -88,7 +91,7 @@ export async function unzip(bytes, name, problems) {
     const start = local + 30 + view.getUint16(local + 26, true) + view.getUint16(local + 28, true);
     const data = bytes.subarray(start, start + packed);
     if (data.length < packed) throw new Error(`${name}: entry "${path}" is truncated`);
-    const room = Math.min(MAX_FILE_BYTES, MAX_TOTAL_BYTES - total);
+    const room = Math.min(MAX_FILE_BYTES, budget - total);
     try {
       let file;
       if (method === 0) {
@@ -121,9 +124,15 @@ async function readAll(items, problems) {
       continue;
     }
     const bytes = new Uint8Array(await file.arrayBuffer());
-    total += bytes.length;
-    if (/\.zip$/i.test(path)) out.push(...await unzip(bytes, path, problems));
-    else out.push({ path: safe, bytes });
+    if (/\.zip$/i.test(path)) {
+      // The unpacked entries count against the total, not the packed zip.
+      const entries = await unzip(bytes, path, problems, MAX_TOTAL_BYTES - total);
+      for (const e of entries) total += e.bytes.length;
+      out.push(...entries);
+    } else {
+      total += bytes.length;
+      out.push({ path: safe, bytes });
+    }
   }
   if (items.length > MAX_FILES) problems.push(`only the first ${MAX_FILES} files were read`);
   return out;

@@ -14,12 +14,13 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use std::collections::BTreeMap;
 
-use glam::{DAffine3, DMat3, DVec3};
-use skeleton_avoidance::fitting::{Body, CoverageOptions, coverage, fit_urdf, fit_volumes};
+use glam::DVec3;
+use skeleton_avoidance::fitting::{
+    Body, CoverageOptions, bodies_onto, coverage, fit_urdf, fit_volumes, rigid_fit,
+};
 use skeleton_avoidance::kinematics::presets::preset;
 use skeleton_avoidance::kinematics::urdf::UrdfOptions;
 use skeleton_avoidance::kinematics::{Robot, RobotSpec};
-use skeleton_avoidance::rng::Rng;
 
 macro_rules! files {
     ($($key:literal => $path:literal),* $(,)?) => {{
@@ -27,25 +28,6 @@ macro_rules! files {
         $(m.insert($key.to_owned(), include_bytes!($path).to_vec());)*
         m
     }};
-}
-
-/// Best rotation + translation with `W a_i ≈ b_i` (Kabsch via polar
-/// iteration of the cross-covariance).
-fn rigid_fit(a: &[DVec3], b: &[DVec3]) -> DAffine3 {
-    let n = a.len() as f64;
-    let ca = a.iter().copied().sum::<DVec3>() / n;
-    let cb = b.iter().copied().sum::<DVec3>() / n;
-    let mut h = DMat3::ZERO;
-    for (p, q) in a.iter().zip(b) {
-        let (p, q) = (*p - ca, *q - cb);
-        h += DMat3::from_cols(q * p.x, q * p.y, q * p.z);
-    }
-    // Polar decomposition: R = lim (R + R^-T) / 2.
-    let mut r = h;
-    for _ in 0..100 {
-        r = (r + r.inverse().transpose()) * 0.5;
-    }
-    DAffine3::from_mat3_translation(r, cb - r * ca)
 }
 
 fn bodies_in_preset(
@@ -64,40 +46,45 @@ fn bodies_in_preset(
     assert!(fit.problems.is_empty(), "{:?}", fit.problems);
     let urdf = Robot::from_spec(&fit.robot).unwrap();
     let preset = Robot::from_spec(spec).unwrap();
-    let mut rng = Rng::new(5);
-    let (mut a, mut b) = (Vec::new(), Vec::new());
-    for _ in 0..20 {
-        let q: Vec<f64> = preset
-            .joints
-            .iter()
-            .map(|j| {
-                let (lo, hi) = (j.min.max(-3.0), j.max.min(3.0));
-                lo + (hi - lo) * rng.uniform()
-            })
-            .collect();
-        let fu = urdf.forward(&q).unwrap();
-        let fp = preset.forward(&q).unwrap();
-        a.push(fu.end_effector().translation);
-        b.push(fp.transforms[preset.dof()].translation);
-    }
+    // The same arm: the base transform is fitted and checked by the tips.
+    let bodies = bodies_onto(&urdf, &preset, &fit.bodies).unwrap();
+    // Checked here independently: every body's vertices, carried along by
+    // the two robots' own frames of its row, coincide at another pose.
+    let q: Vec<f64> = (0..preset.dof()).map(|k| 0.3 - 0.1 * k as f64).collect();
+    let (fu0, fu) = (
+        urdf.forward(&vec![0.0; preset.dof()]).unwrap(),
+        urdf.forward(&q).unwrap(),
+    );
+    let (fp0, fp) = (
+        preset.forward(&vec![0.0; preset.dof()]).unwrap(),
+        preset.forward(&q).unwrap(),
+    );
+    let (a, b): (Vec<DVec3>, Vec<DVec3>) = fit
+        .bodies
+        .iter()
+        .zip(&bodies)
+        .flat_map(|(u, p)| {
+            let mu = fu.transforms[u.link] * fu0.transforms[u.link].inverse();
+            let mp = fp.transforms[p.link] * fp0.transforms[p.link].inverse();
+            u.mesh
+                .vertices
+                .iter()
+                .zip(&p.mesh.vertices)
+                .map(move |(x, y)| (mu.transform_point3(*x), mp.transform_point3(*y)))
+        })
+        .unzip();
     let w = rigid_fit(&a, &b);
-    for (p, q) in a.iter().zip(&b) {
+    for (x, y) in a.iter().zip(&b) {
         assert!(
-            (w.transform_point3(*p) - *q).length() < 1e-6,
-            "the preset is not the URDF's kinematics"
+            (w.transform_point3(*x) - *y).length() < 1e-6,
+            "a body left its row"
         );
     }
     // The presets model the arm up to its flange: the Panda's hand (hung
     // from the flange) is not part of them.
-    fit.bodies
+    bodies
         .into_iter()
         .filter(|b| b.name != "panda_hand")
-        .map(|mut body| {
-            for v in &mut body.mesh.vertices {
-                *v = w.transform_point3(*v);
-            }
-            body
-        })
         .collect()
 }
 
@@ -170,4 +157,32 @@ fn ur5_preset_covers_its_collision_meshes() {
     );
     let c = report("ur5", &spec, &bodies);
     assert!(c > 0.0);
+}
+
+#[test]
+fn bodies_go_only_onto_the_same_arm() {
+    let xml = include_str!("data/urdf/ur5_robot.urdf");
+    let files = files! { "collision/wrist3.stl" => "data/meshes/ur5/collision/wrist3.stl" };
+    let options = UrdfOptions {
+        tip: Some("ee_link".to_owned()),
+        base: None,
+        srdf: None,
+        radii: None,
+    };
+    let fit = fit_urdf(xml, &options, &files).unwrap();
+    let urdf = Robot::from_spec(&fit.robot).unwrap();
+    let panda = Robot::from_spec(&preset("panda").unwrap()).unwrap();
+    let e = bodies_onto(&urdf, &panda, &fit.bodies).unwrap_err();
+    assert_eq!(e, "the URDF's chain has 6 joints, the robot 7");
+    // The UR5 with one DH length 1 mm off: not the same arm.
+    let mut spec = preset("ur5").unwrap();
+    spec.joints[2].a -= 0.001;
+    let longer = Robot::from_spec(&spec).unwrap();
+    let e = bodies_onto(&urdf, &longer, &fit.bodies).unwrap_err();
+    assert!(
+        e.starts_with("the URDF's kinematics are not the robot's"),
+        "{e}"
+    );
+    let ur5 = Robot::from_spec(&preset("ur5").unwrap()).unwrap();
+    assert_eq!(bodies_onto(&urdf, &ur5, &fit.bodies).unwrap().len(), 1);
 }

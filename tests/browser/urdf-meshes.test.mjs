@@ -11,8 +11,9 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
 import { serve } from '../../scripts/serve.mjs';
-import { launch, collectErrors, frames, artifacts, repo } from './chromium.mjs';
-import { decodePng, pixel, colourDistance } from './png.mjs';
+import { launch, collectErrors, frames, artifacts } from './chromium.mjs';
+import { pixel, colourDistance } from './png.mjs';
+import { data, UR5_PARTS as PARTS, shot, differing, display } from './urdf-kit.mjs';
 
 let server;
 let baseUrl;
@@ -23,36 +24,10 @@ before(async () => {
 });
 after(() => new Promise((resolve) => server.close(resolve)));
 
-const data = (p) => path.join(repo, 'crate', 'tests', 'data', p);
-const PARTS = ['base', 'shoulder', 'upperarm', 'forearm', 'wrist1', 'wrist2', 'wrist3'];
 const files = (skip = []) => [
   { name: 'ur5_robot.urdf', mimeType: 'application/xml', buffer: fs.readFileSync(data('urdf/ur5_robot.urdf')) },
   ...PARTS.filter((p) => !skip.includes(p)).map((p) => ({ name: `${p}.stl`, mimeType: 'model/stl', buffer: fs.readFileSync(data(`meshes/ur5/collision/${p}.stl`)) })),
 ];
-
-async function shot(page, name) {
-  await frames(page, 3);
-  const file = path.join(artifacts, name);
-  const box = await page.locator('#view').boundingBox();
-  await page.screenshot({ path: file, clip: box });
-  return decodePng(fs.readFileSync(file));
-}
-
-function differing(a, b) {
-  let n = 0;
-  for (let y = 0; y < a.height; y += 2) {
-    for (let x = 0; x < a.width; x += 2) {
-      if (colourDistance(pixel(a, x, y), pixel(b, x, y)) > 30) n += 1;
-    }
-  }
-  return n;
-}
-
-async function display(page, { meshes, volumes }) {
-  for (const [id, on] of [['#show-meshes', meshes], ['#show-volumes', volumes]]) {
-    if ((await page.locator(id).isChecked()) !== on) await page.locator(id).click();
-  }
-}
 
 for (const backend of ['webgpu', 'webgl2']) {
   test(`URDF files with meshes: drawn, toggled, picked on the mesh (${backend})`, async () => {

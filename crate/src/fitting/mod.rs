@@ -33,14 +33,19 @@
 //! their radii. Fitting is done at `q`; for a prismatic row the rigid sets
 //! exclude its changing `d` spine.
 //!
+//! [`bodies_onto`] carries a URDF's bodies onto another description of the
+//! same arm (a preset's DH table), checked by its tips.
+//!
 //! [`coverage`] measures any spec against the bodies (see [`Coverage`]):
 //! the share of vertices inside (must be 100 % after fitting), the share of
 //! the surface inside within a tolerance, and the excess (volume of the
 //! volumes over the meshes' volume).
 
+mod align;
 mod coverage;
 mod urdf;
 
+pub use align::{SAME_ARM_TOLERANCE, bodies_onto, rigid_fit};
 pub use coverage::{BodyCoverage, Coverage, CoverageOptions, coverage};
 pub use urdf::{UrdfFit, fit_urdf, path_components, resolve_mesh};
 

@@ -20,8 +20,9 @@
 //! - A file longer than [`MAX_MESH_BYTES`] is refused before parsing.
 //! - A mesh with more than [`MAX_TRIANGLES`] triangles or [`MAX_VERTICES`]
 //!   vertices is refused (glTF: checked on the accessors' declared counts
-//!   before reading them; a binary STL's declared count is ignored, its
-//!   length decides).
+//!   before reading them; a binary STL's declared triangle count is checked
+//!   before parsing: more than the cap, or more than its bytes hold — a
+//!   truncated file — refuses it, [`MeshError::Truncated`]).
 //! - A vertex that is not a finite number, or an index past the vertices,
 //!   refuses the whole mesh ([`MeshError::NotFinite`],
 //!   [`MeshError::BadIndex`]): nothing is loaded from it.
@@ -132,6 +133,20 @@ pub enum MeshError {
         /// The parser's message.
         reason: String,
     },
+    /// A binary STL shorter than its declared triangle count needs.
+    #[error(
+        "\"{path}\": declares {declared} triangles ({needed} bytes) but has {bytes} bytes: truncated"
+    )]
+    Truncated {
+        /// Path as named.
+        path: String,
+        /// Triangles the header declares.
+        declared: usize,
+        /// Bytes those triangles need (84 + 50 each).
+        needed: usize,
+        /// Bytes the file has.
+        bytes: usize,
+    },
     /// A vertex coordinate is NaN or infinite.
     #[error("\"{path}\": vertex {vertex} is not a finite point")]
     NotFinite {
@@ -195,6 +210,9 @@ pub fn load_mesh(
         format,
         reason: e.to_string(),
     };
+    if format == MeshFormat::Stl {
+        check_binary_stl(path, bytes)?;
+    }
     let mesh = match format {
         MeshFormat::Stl => from_scene(mesh_loader::stl::from_slice(bytes).map_err(unreadable)?),
         MeshFormat::Obj => from_scene(
@@ -207,6 +225,37 @@ pub fn load_mesh(
         MeshFormat::Gltf | MeshFormat::Glb => gltf_file::read(path, bytes, resolve)?,
     };
     mesh.checked(path)
+}
+
+/// Refuses a binary STL whose header declares more triangles than the cap or
+/// than its bytes hold (an ASCII STL — all bytes ASCII — and a binary one
+/// whose length matches or exceeds its count pass; trailing bytes are the
+/// parser's to judge).
+fn check_binary_stl(path: &str, bytes: &[u8]) -> Result<(), MeshError> {
+    const HEADER: usize = 84;
+    const TRIANGLE: usize = 50;
+    let Some(count) = bytes.get(80..HEADER) else {
+        return Ok(()); // too short for a binary header: the parser says why
+    };
+    let declared = u32::from_le_bytes([count[0], count[1], count[2], count[3]]) as usize;
+    let needed = HEADER.saturating_add(declared.saturating_mul(TRIANGLE));
+    if needed <= bytes.len() || bytes.is_ascii() {
+        return Ok(());
+    }
+    if declared > MAX_TRIANGLES {
+        return Err(MeshError::TooManyElements {
+            path: path.to_owned(),
+            what: "triangles",
+            count: declared,
+            max: MAX_TRIANGLES,
+        });
+    }
+    Err(MeshError::Truncated {
+        path: path.to_owned(),
+        declared,
+        needed,
+        bytes: bytes.len(),
+    })
 }
 
 fn from_scene(scene: mesh_loader::Scene) -> TriMesh {
@@ -351,7 +400,7 @@ mod tests {
     }
 
     #[test]
-    fn a_binary_stl_with_a_huge_declared_count_reads_what_is_there() {
+    fn a_binary_stl_declaring_more_triangles_than_it_holds_is_refused() {
         let mut b = vec![0u8; 84];
         b[80..84].copy_from_slice(&u32::MAX.to_le_bytes());
         let tri: [f32; 12] = [0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0.];
@@ -359,8 +408,33 @@ mod tests {
             b.extend_from_slice(&f.to_le_bytes());
         }
         b.extend_from_slice(&[0, 0]);
-        let m = load_mesh("t.stl", &b, &mut |_| None).map_err(|e| e.to_string());
-        assert_eq!(m.map(|m| m.triangles.len()), Ok(1));
+        assert_eq!(
+            load_mesh("t.stl", &b, &mut |_| None).map(|m| m.triangles.len()),
+            Err(MeshError::TooManyElements {
+                path: "t.stl".into(),
+                what: "triangles",
+                count: u32::MAX as usize,
+                max: MAX_TRIANGLES,
+            })
+        );
+        // Declaring what it holds: read.
+        b[80..84].copy_from_slice(&1u32.to_le_bytes());
+        assert_eq!(
+            load_mesh("t.stl", &b, &mut |_| None).map(|m| m.triangles.len()),
+            Ok(1)
+        );
+        // Two declared, one and a half there (cut mid-triangle): refused.
+        b[80..84].copy_from_slice(&2u32.to_le_bytes());
+        b.extend_from_slice(&[0u8; 25]);
+        assert_eq!(
+            load_mesh("t.stl", &b, &mut |_| None).map(|m| m.triangles.len()),
+            Err(MeshError::Truncated {
+                path: "t.stl".into(),
+                declared: 2,
+                needed: 184,
+                bytes: 159,
+            })
+        );
     }
 
     #[test]

@@ -143,6 +143,12 @@ impl Stage {
         Ok(())
     }
 
+    /// The robot, once set.
+    #[must_use]
+    pub fn robot(&self) -> Option<&Robot> {
+        self.robot.as_ref()
+    }
+
     /// Sets the joint vector (rad, m) of the robot.
     ///
     /// # Errors

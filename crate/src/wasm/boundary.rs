@@ -229,6 +229,7 @@ const VIEWER_ARGS: &[(&str, &[&str])] = &[
     ("rayAt", &["x:number", "y:number"]),
     // Read by `readUrdfOptions` (mesh bytes are not JSON).
     ("setUrdf", &["xml", "options:urdf"]),
+    ("setMeshesFromUrdf", &["xml", "options:urdf"]),
 ];
 
 /// `viewer` handed to JavaScript with its class guarded like `World`'s:

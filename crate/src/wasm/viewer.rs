@@ -203,6 +203,41 @@ impl Viewer {
         Ok(report)
     }
 
+    /// Draws a URDF's collision meshes on the current robot, which must be
+    /// the same arm in another description (a preset's DH table): the tips
+    /// agree, after one rigid base transform, to 1 µm over sampled
+    /// configurations; the robot and its volumes stay as they are.
+    /// `options` and the result are `setUrdf`'s; the meshes go with the
+    /// next `setRobot`.
+    ///
+    /// # Errors
+    /// `fitUrdf`'s; `setMeshesFromUrdf: no robot; call setRobot first`;
+    /// `setMeshesFromUrdf: the URDF's kinematics are not the robot's: …`
+    /// (or its joint count differs). The viewer is unchanged after one.
+    #[wasm_bindgen(js_name = setMeshesFromUrdf)]
+    pub fn set_meshes_from_urdf(
+        &mut self,
+        xml: JsValue,
+        options: JsValue,
+    ) -> Result<JsValue, JsError> {
+        let fit = super::urdf::fit_from_js(xml, options)?;
+        let from = crate::kinematics::Robot::from_spec(&fit.robot).map_err(|e| js_error(&e))?;
+        let Some(onto) = self.stage.robot() else {
+            return Err(JsError::new(
+                "setMeshesFromUrdf: no robot; call setRobot first",
+            ));
+        };
+        let bodies = crate::fitting::bodies_onto(&from, onto, &fit.bodies)
+            .map_err(|e| JsError::new(&format!("setMeshesFromUrdf: {e}")))?;
+        let zero = onto
+            .forward(&vec![0.0; onto.dof()])
+            .map_err(|e| js_error(&e))?;
+        let meshes = crate::view::link_meshes(&bodies, &zero.transforms);
+        let report = to_js(&fit)?;
+        self.stage.set_meshes(meshes);
+        Ok(report)
+    }
+
     /// Highlights the obstacle with this id (`null` or `undefined`: none).
     ///
     /// # Errors
