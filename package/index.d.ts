@@ -647,8 +647,14 @@ export function translateShape<S extends Shape>(shape: S, delta: Vec3): S;
 export function moveHumanHand(shape: Human, side: 'left' | 'right', delta: Vec3): Human;
 
 export interface TrackOptions {
-  format?: 'json' | 'csv';
+  /** Default: JSON when the text starts with `{`, BVH when it starts with `HIERARCHY`, else CSV. */
+  format?: 'json' | 'csv' | 'bvh';
+  /** Keypoint layout of JSON and CSV (not used for BVH). */
   layout?: 'coco17' | 'body25' | 'kinect32';
+  /** Metres per unit of the file (default 1; BVH 0.01, centimetres). */
+  scale?: number;
+  /** The file's up axis (default 'z'; BVH 'y'). */
+  up?: 'z' | 'y';
   /** m; default estimated from the limbs. */
   height?: number;
   /** Time constant of the zero-phase jitter filter (s, default 0.03; 0: off). */
@@ -668,7 +674,7 @@ export interface TrackReport {
   clamped: number;
 }
 
-/** A recorded keypoint track (JSON or CSV text) as a human that replays it; changes nothing by itself. */
+/** A recorded keypoint track (JSON or CSV text) or BVH motion capture as a human that replays it; changes nothing by itself. */
 export function importTrack(text: string, options?: TrackOptions): { shape: Human; report: TrackReport };
 export function simulate(scenario: Scenario): Trace;
 export function exampleScenario(name: string): Scenario;

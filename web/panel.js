@@ -343,11 +343,11 @@ function humanRows(pg) {
   const motion = h('select', { id: 'human-motion', 'aria-label': 'human motion',
     onchange: (e) => pg.editSelected((s) => withMotion(pg, s, e.target.value)) },
   options.map((m) => h('option', { value: m, selected: m === current }, m)));
-  const track = h('input', { type: 'file', id: 'human-track', accept: '.json,.csv,application/json,text/csv', 'aria-label': 'open a keypoint track',
+  const track = h('input', { type: 'file', id: 'human-track', accept: '.json,.csv,.bvh,application/json,text/csv', 'aria-label': 'open a keypoint track',
     onchange: (e) => pg.openTrack(e.target.files?.[0]) });
   return [
     h('div', { class: 'row' }, 'motion', motion),
-    h('div', { class: 'row' }, h('label', { for: 'human-track' }, 'keypoint track (COCO-17, BODY-25, Kinect 32; JSON or CSV)'), track),
+    h('div', { class: 'row' }, h('label', { for: 'human-track' }, 'keypoint track (COCO-17, BODY-25, Kinect 32 in JSON or CSV; BVH)'), track),
     h('p', { class: 'hint' }, 'Drag a hand to move only its arm; drag the body to move the person.'),
   ];
 }

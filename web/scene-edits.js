@@ -142,7 +142,7 @@ export const sceneMethods = {
   },
 
   /**
-   * Replays a recorded keypoint track (a `File`, JSON or CSV) with the
+   * Replays a recorded keypoint track (a `File`: JSON, CSV or BVH) with the
    * selected human (or a new one when no human is selected). A track the
    * library refuses leaves the scene as it was, and says why.
    */
@@ -151,7 +151,9 @@ export const sceneMethods = {
     try {
       const text = await file.text();
       const csv = /\.csv$/i.test(file.name);
-      const options = csv ? { format: 'csv', layout: /body25/i.test(file.name) ? 'body25' : /kinect/i.test(file.name) ? 'kinect32' : 'coco17' } : {};
+      const bvh = /\.bvh$/i.test(file.name);
+      const options = csv ? { format: 'csv', layout: /body25/i.test(file.name) ? 'body25' : /kinect/i.test(file.name) ? 'kinect32' : 'coco17' }
+        : bvh ? { format: 'bvh' } : {};
       const { shape, report } = importTrack(text, options);
       const id = this.selected && this.shapeOf(this.selected)?.type === 'human' ? this.selected : null;
       if (id) {

@@ -134,6 +134,39 @@ test('a keypoint track plays, a bad one is refused and the scene is unchanged; t
   }
 });
 
+test('a BVH recording plays: the person walks past the arm; a malformed one is refused', async () => {
+  const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 } });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await open(page, '?scenario=human-reach&paused');
+    await page.evaluate(() => window.playground.app.select('person'));
+    await frames(page, 1);
+    const shape = (await person(page)).shape;
+    const text = fs.readFileSync(path.join(repo, 'web', 'tracks', 'walk-by.bvh'), 'utf8');
+    const bad = path.join(artifacts, 'bad-walk.bvh');
+    fs.writeFileSync(bad, text.replace(/Frame Time: .*/, 'Frame Time: -0.1'));
+    await page.locator('#human-track').setInputFiles(bad);
+    await page.locator('#error').waitFor({ state: 'visible' });
+    assert.match(await page.locator('#error').innerText(), /Frame Time: must be in \(0, 10\] s/);
+    assert.ok(same((await person(page)).shape, shape), 'a refused file leaves the person as it was');
+    await page.locator('#human-track').setInputFiles(path.join(repo, 'web', 'tracks', 'walk-by.bvh'));
+    await page.waitForFunction(() => window.playground.app.world.state().obstacles.find((o) => o.id === 'person').shape.animation?.keyframes?.length === 90);
+    assert.match(await page.locator('#status').innerText(), /bvh, 90 frames/);
+    const pelvisAt = async () => (await person(page)).parts[0].a;
+    const p0 = await pelvisAt();
+    await page.evaluate(() => { const app = window.playground.app; if (!app.running) app.toggleRun(); });
+    await page.waitForFunction(() => window.playground.app.world.state().t > 1.5);
+    const p1 = await pelvisAt();
+    assert.ok(p0[1] - p1[1] > 1.0, `the person walks along −y (${p0[1]} → ${p1[1]})`);
+    await frames(page, 2);
+    await page.screenshot({ path: path.join(artifacts, 'human-bvh-walk-1280x800.png') });
+    assert.deepEqual(errors.filter((e) => !/Frame Time/.test(e)), []);
+  } finally {
+    await browser.close();
+  }
+});
+
 for (const [w, hgt] of [[1280, 800], [390, 844]]) {
   test(`a person reaching across the arm at ${w}×${hgt}: the HUD names the closest part`, async () => {
     const browser = await launch({ webgpu: true, viewport: { width: w, height: hgt } });

@@ -97,3 +97,36 @@ test('moveHumanHand moves only that arm; importTrack returns a human replaying a
   assert.equal(JSON.stringify(w.state().obstacles), before);
   w.free();
 });
+
+test('importTrack reads BVH motion capture; malformed files are refused naming the field and change nothing', () => {
+  const { importTrack, World, exampleScenario } = require('../../crate/pkg-node/skeleton_avoidance.js');
+  const fs = require('node:fs');
+  const text = fs.readFileSync(new URL('../../web/tracks/walk-by.bvh', import.meta.url), 'utf8');
+  const { shape, report } = importTrack(text);
+  assert.equal(report.layout, 'bvh');
+  assert.equal(report.frames, 90);
+  assert.ok(Math.abs(report.duration - 89 / 30) < 1e-9, String(report.duration));
+  assert.equal(shape.animation.keyframes.length, 90);
+  // Walking past along −y at 1.2 m/s: the last keyframe's root has moved
+  // 3.56 m forward (the person faces −y), less the jitter filter's lag at
+  // the end of a track (speed × smoothing, 3.6 cm), exact unfiltered.
+  const last = shape.animation.keyframes[89];
+  assert.ok(Math.abs(last.shift[0] - 1.2 * 89 / 30) < 0.05, JSON.stringify(last.shift));
+  const raw = importTrack(text, { smoothing: 0 }).shape.animation.keyframes[89];
+  assert.ok(Math.abs(raw.shift[0] - 1.2 * 89 / 30) < 1e-6, JSON.stringify(raw.shift));
+  const w = new World(exampleScenario('human-reach'));
+  w.setObstacleShape('person', shape);
+  const before = JSON.stringify(w.state().obstacles);
+  const cases = [
+    [text.replace(/Frame Time: .*/, 'Frame Time: 0'), /^Frame Time: must be in \(0, 10\] s/],
+    [text.replace('Frames: 90', 'Frames: 1000000000'), /^Frames: at most 100000 frames \(got 1000000000\)/],
+    [text.slice(0, text.length - 2000), /^(Frames|line \d+): /],
+    [text.replace('ROOT Hips', 'ROOT Torso'), /^ROOT: "Torso" is not a hips joint/],
+    [text.replace(/\n(-?[0-9.]+) /, '\nNaN '), /^line \d+: value 1 \(Hips Xposition\): "NaN" is not a finite number/],
+  ];
+  for (const [bad, re] of cases) assert.throws(() => importTrack(bad), (e) => e instanceof Error && re.test(e.message), String(re));
+  assert.throws(() => importTrack(text, { scale: -1 }), /^Error: scale: must be in \(0, 1000\]/);
+  assert.throws(() => importTrack(text, { up: 'x' }), /^Error: up: expected "z" or "y"/);
+  assert.equal(JSON.stringify(w.state().obstacles), before);
+  w.free();
+});

@@ -40,7 +40,7 @@ pub mod proportion {
 /// Where the body's joints sit and how thick its parts are, as fractions of
 /// the height. These are this crate's own estimates (not from the tables):
 /// volumes that enclose a clothed adult of average build.
-mod build {
+pub(crate) mod build {
     /// Half the distance between the hip joint centres.
     pub const HIP_HALF: f64 = 0.05;
     /// The lumbar (spine) joint above the hip joints.

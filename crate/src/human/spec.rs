@@ -184,6 +184,24 @@ impl Human {
     /// the velocities of its end points.
     #[must_use]
     pub fn posed_at(&self, t: f64, offset: DVec3, offset_velocity: DVec3) -> Posed {
+        let (root, x) = self.sampled(t, offset, offset_velocity);
+        pose_body(self.spec.height, &root, &x.pose, &x.rates)
+    }
+
+    /// The root and the joint angles at time `t` (s), before any motion
+    /// of the obstacle.
+    #[must_use]
+    pub fn pose_at(&self, t: f64) -> (Root, Pose) {
+        let (root, x) = self.sampled(t, DVec3::ZERO, DVec3::ZERO);
+        (root, x.pose)
+    }
+
+    fn sampled(
+        &self,
+        t: f64,
+        offset: DVec3,
+        offset_velocity: DVec3,
+    ) -> (Root, super::animation::Sampled) {
         let s = &self.spec;
         let turn = super::body::rotation(DVec3::Z, s.heading);
         let base = DVec3::from_array(s.position) + offset;
@@ -200,6 +218,6 @@ impl Human {
             velocity: offset_velocity + turn * x.shift_rate,
             heading_rate: x.turn_rate,
         };
-        pose_body(s.height, &root, &x.pose, &x.rates)
+        (root, x)
     }
 }

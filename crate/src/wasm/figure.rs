@@ -47,17 +47,20 @@ pub fn translate_shape_js(shape: JsValue, delta: JsValue) -> Result<JsValue, JsE
 /// Most characters of a keypoint track `importTrack` reads (64 MiB).
 const MAX_TRACK_CHARS: usize = 64 << 20;
 
-/// Reads a recorded keypoint track (`text`: JSON or CSV; COCO-17, BODY-25
-/// or Azure Kinect 32) and returns `{ shape, report }`: a `human` shape
-/// whose keyframes replay it, and what was repaired (gaps filled, angles
-/// clamped). `options`: `{ format?, layout?, height?, smoothing?, maxGap? }`
+/// Reads a recorded keypoint track (`text`: JSON or CSV in the COCO-17,
+/// BODY-25 or Azure Kinect 32 layout, or BVH motion capture) and returns
+/// `{ shape, report }`: a `human` shape whose keyframes replay it, and what
+/// was repaired (gaps filled, angles clamped). `options`: `{ format?,
+/// layout?, height?, smoothing?, maxGap?, scale?, up? }`
 /// (docs/scenarios.md). Nothing else changes: give the shape to
 /// `setObstacleShape` or `addObstacle` to use it.
 ///
 /// # Errors
 /// `layout: unknown layout …`, `frames[3].t: must increase`,
 /// `frames[2].keypoints: expected 17 keypoints …`, `line 5: …`,
-/// `frames: at most 100000 frames …`, `text: …`.
+/// `frames: at most 100000 frames …`, `text: …`; BVH: `Frame Time: must
+/// be in (0, 10] s …`, `Frames: declares 120 frames, the file has 57 …`,
+/// `ROOT: … is not a hips joint …`, `line 40: expected 57 values …`.
 #[wasm_bindgen(js_name = importTrack)]
 pub fn import_track_js(text: JsValue, options: JsValue) -> Result<JsValue, JsError> {
     let Some(text) = text.as_string() else {

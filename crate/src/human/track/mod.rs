@@ -1,10 +1,12 @@
-//! Recorded keypoint tracks mapped onto the articulated human.
+//! Recorded keypoint tracks and BVH motion capture mapped onto the
+//! articulated human.
 //!
 //! A track is a sequence of frames, each a timestamp and the 3-D positions
 //! of a layout's keypoints ([`Layout`]: COCO-17, BODY-25, Azure Kinect 32),
-//! in metres, world frame, z up. [`import`] reads one (JSON or CSV), repairs
-//! what it can, refuses the rest naming the field, and returns a human
-//! ([`HumanSpec`]) whose keyframes replay it:
+//! in metres, world frame, z up (`scale` and `up` convert other units and
+//! axes). [`import`] reads one (JSON, CSV or BVH), repairs what it can,
+//! refuses the rest naming the field, and returns a human ([`HumanSpec`])
+//! whose keyframes replay it:
 //!
 //! - **JSON**: `{ "layout": "coco17", "frames": [{ "t": 0.0, "keypoints":
 //!   [[x, y, z] | null, …] }, …] }`.
@@ -12,13 +14,36 @@
 //!   layout's order (the layout given in the options); a first line that
 //!   does not start with a number is a header; an empty cell or `nan` is a
 //!   missing value.
+//! - **BVH** (Biovision Hierarchy, recognised by its first word
+//!   `HIERARCHY`): the hierarchy's forward kinematics give the world
+//!   positions of the shoulders, elbows, wrists, hips, knees, ankles and
+//!   the head's centre in every frame (frame `k` at `k · Frame Time`), found
+//!   by name (CMU style, `LeftArm`, `LeftForeArm`, `LeftHand`, `LeftUpLeg`,
+//!   `LeftLeg`, `LeftFoot`, `Head` under `Hips`, with the aliases listed in
+//!   `docs/scenarios.md`); they then go through the same repairs and fit as
+//!   keypoints. Units default to centimetres (`scale` 0.01) and the up axis
+//!   to y (`up`), BVH's usual conventions. Refused: a file that does not
+//!   start with `HIERARCHY`, a `ROOT` missing, repeated, or naming a
+//!   skeleton with no hips joint (`ROOT`), more than [`MAX_BVH_JOINTS`]
+//!   joints or a needed joint missing (`HIERARCHY`), bad channels
+//!   (`LeftArm.CHANNELS`) or offsets (`LeftArm.OFFSET`), unbalanced braces,
+//!   a file that ends inside its hierarchy (`MOTION`), a frame count that is
+//!   not a whole number in 1..=[`MAX_KEYFRAMES`] or does not match the frame
+//!   lines (`Frames`; checked before anything is allocated), a frame time
+//!   outside (0, [`MAX_FRAME_TIME`]] s (`Frame Time`), a frame line with
+//!   the wrong number of values or a value that is not a finite number
+//!   within ±[`MAX_BVH_VALUE`] (`line 130`, naming the joint and channel).
+//!   The text itself is limited only by the caller (the JavaScript binding
+//!   reads at most 64 MiB).
 //!
 //! **Refused** (the scene is left as it was): an unknown layout (`layout`),
 //! no frames or more than [`MAX_KEYFRAMES`] (`frames`), a timestamp that is
 //! not finite or does not increase (`frames[3].t`), a frame with the wrong
 //! number of keypoints (`frames[2].keypoints`), a CSV line with the wrong
 //! number of cells (`line 5`), a joint the fit needs that is missing in every
-//! frame (`frames`), bad options (`smoothing`, `maxGap`, `height`).
+//! frame (`frames`), bad options (`format`, `smoothing`, `maxGap`,
+//! `height`, `scale`, `up`), limbs that give a height outside (0.5, 3] m
+//! (`height`: the wrong units).
 //!
 //! **Repaired** (and counted in the [`TrackReport`]):
 //! - *gaps*: a missing keypoint (null, NaN, ±∞, or farther than 10 km) is
@@ -50,12 +75,15 @@ use super::body::proportion;
 use super::spec::{AnimationSpec, HumanSpec, MAX_HEIGHT};
 use crate::error::{FieldError, finite};
 
+mod bvh;
 mod fit;
 mod layout;
+mod skeleton;
 mod synth;
 
+pub use bvh::{MAX_BVH_JOINTS, MAX_BVH_VALUE, MAX_FRAME_TIME};
 pub use layout::{Layout, NEEDED};
-pub use synth::synthesize;
+pub use synth::{synthesize, synthesize_bvh};
 
 /// A keypoint farther than this from the origin is read as missing (m).
 pub const MAX_COORDINATE: f64 = 1e4;
@@ -79,6 +107,14 @@ pub struct TrackOptions {
     /// Longest gap filled by interpolation (s, ≥ 0; default 0.5).
     #[serde(default = "default_gap")]
     pub max_gap: f64,
+    /// Metres per unit of the file (> 0, at most 1000; default 1, BVH
+    /// 0.01: centimetres).
+    #[serde(default)]
+    pub scale: Option<f64>,
+    /// The file's up axis, `z` or `y` (default `z`, BVH `y`); y-up
+    /// coordinates `(x, y, z)` become `(x, −z, y)`.
+    #[serde(default)]
+    pub up: Option<String>,
 }
 
 fn default_smoothing() -> f64 {
@@ -97,6 +133,8 @@ impl Default for TrackOptions {
             height: None,
             smoothing: default_smoothing(),
             max_gap: default_gap(),
+            scale: None,
+            up: None,
         }
     }
 }
@@ -155,6 +193,33 @@ pub struct ImportedTrack {
 /// # Errors
 /// See the module docs: the field and the reason of the first refusal.
 pub fn import(text: &str, options: &TrackOptions) -> Result<ImportedTrack, FieldError> {
+    check_options(options)?;
+    let start = text.trim_start();
+    let format = match options.format.as_deref() {
+        Some(f @ ("json" | "csv" | "bvh")) => f,
+        None if start.starts_with('{') => "json",
+        None if start.starts_with("HIERARCHY") => "bvh",
+        None => "csv",
+        Some(other) => {
+            return Err(FieldError::new(
+                "format",
+                format!("expected \"json\", \"csv\" or \"bvh\", got \"{other}\""),
+            ));
+        }
+    };
+    let axes = axes(options, format == "bvh")?;
+    let (source, times, points) = match format {
+        "json" => read_json(text, options.layout.as_deref(), axes)?,
+        "csv" => read_csv(text, options.layout.as_deref(), axes)?,
+        _ => {
+            let (times, points) = bvh::read(text, axes)?;
+            (Source::BVH, times, points)
+        }
+    };
+    convert(&source, &times, points, options)
+}
+
+fn check_options(options: &TrackOptions) -> Result<(), FieldError> {
     let smoothing = finite("smoothing", options.smoothing)?;
     let max_gap = finite("maxGap", options.max_gap)?;
     if smoothing < 0.0 {
@@ -172,26 +237,67 @@ pub fn import(text: &str, options: &TrackOptions) -> Result<ImportedTrack, Field
             ));
         }
     }
-    let json = match options.format.as_deref() {
-        Some("json") => true,
-        Some("csv") => false,
-        None => text.trim_start().starts_with('{'),
+    Ok(())
+}
+
+/// Most metres per unit `scale` may give.
+pub const MAX_SCALE: f64 = 1000.0;
+
+fn axes(options: &TrackOptions, bvh: bool) -> Result<bvh::Axes, FieldError> {
+    let scale = match options.scale {
+        Some(s) => {
+            finite("scale", s)?;
+            if !(s > 0.0 && s <= MAX_SCALE) {
+                return Err(FieldError::new(
+                    "scale",
+                    format!("must be in (0, {MAX_SCALE}] m per unit (got {s})"),
+                ));
+            }
+            s
+        }
+        None if bvh => 0.01,
+        None => 1.0,
+    };
+    let y_up = match options.up.as_deref() {
+        None => bvh,
+        Some("z") => false,
+        Some("y") => true,
         Some(other) => {
             return Err(FieldError::new(
-                "format",
-                format!("expected \"json\" or \"csv\", got \"{other}\""),
+                "up",
+                format!("expected \"z\" or \"y\", got \"{other}\""),
             ));
         }
     };
-    let (layout, times, points) = if json {
-        read_json(text, options.layout.as_deref())?
-    } else {
-        read_csv(text, options.layout.as_deref())?
-    };
-    convert(layout, &times, points, options)
+    Ok(bvh::Axes { scale, y_up })
 }
 
-type Frames = (Layout, Vec<f64>, Vec<Vec<Option<DVec3>>>);
+/// Where the frames came from: a layout's name, its keypoint names and
+/// where the [`NEEDED`] joints sit among them.
+struct Source {
+    name: &'static str,
+    names: &'static [&'static str],
+    needed: [usize; 14],
+}
+
+impl Source {
+    /// A BVH file: the needed joints themselves, in order.
+    const BVH: Self = Self {
+        name: "bvh",
+        names: &NEEDED,
+        needed: [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13],
+    };
+
+    fn of(layout: Layout) -> Self {
+        Self {
+            name: layout.name(),
+            names: layout.names(),
+            needed: layout.needed(),
+        }
+    }
+}
+
+type Frames = (Source, Vec<f64>, Vec<Vec<Option<DVec3>>>);
 
 fn check_count(n: usize) -> Result<(), FieldError> {
     if n == 0 {
@@ -214,12 +320,12 @@ fn check_time(k: usize, t: f64, prev: Option<f64>) -> Result<(), FieldError> {
     Ok(())
 }
 
-fn point(p: [f64; 3]) -> Option<DVec3> {
-    let v = DVec3::from_array(p);
+fn point(p: [f64; 3], axes: bvh::Axes) -> Option<DVec3> {
+    let v = axes.apply(DVec3::from_array(p));
     (v.is_finite() && v.length() <= MAX_COORDINATE).then_some(v)
 }
 
-fn read_json(text: &str, layout: Option<&str>) -> Result<Frames, FieldError> {
+fn read_json(text: &str, layout: Option<&str>, axes: bvh::Axes) -> Result<Frames, FieldError> {
     let file: TrackFile = serde_path_to_error::deserialize(
         &mut serde_json::Deserializer::from_str(text),
     )
@@ -245,12 +351,17 @@ fn read_json(text: &str, layout: Option<&str>) -> Result<Frames, FieldError> {
             ));
         }
         times.push(f.t);
-        points.push(f.keypoints.iter().map(|p| p.and_then(point)).collect());
+        points.push(
+            f.keypoints
+                .iter()
+                .map(|p| p.and_then(|p| point(p, axes)))
+                .collect(),
+        );
     }
-    Ok((layout, times, points))
+    Ok((Source::of(layout), times, points))
 }
 
-fn read_csv(text: &str, layout: Option<&str>) -> Result<Frames, FieldError> {
+fn read_csv(text: &str, layout: Option<&str>, axes: bvh::Axes) -> Result<Frames, FieldError> {
     let name = layout.ok_or_else(|| {
         FieldError::new("layout", "required for CSV (coco17, body25 or kinect32)")
     })?;
@@ -295,12 +406,12 @@ fn read_csv(text: &str, layout: Option<&str>) -> Result<Frames, FieldError> {
         check_time(k, t, times.last().copied())?;
         let mut frame = Vec::with_capacity(n);
         for c in cells[1..].chunks(3) {
-            frame.push(point([num(c[0])?, num(c[1])?, num(c[2])?]));
+            frame.push(point([num(c[0])?, num(c[1])?, num(c[2])?], axes));
         }
         times.push(t);
         points.push(frame);
     }
-    Ok((layout, times, points))
+    Ok((Source::of(layout), times, points))
 }
 
 /// Fills the gaps of one keypoint's series; returns how many it filled.
@@ -355,14 +466,14 @@ fn smooth(times: &[f64], series: &mut [DVec3], tau: f64) {
 }
 
 fn convert(
-    layout: Layout,
+    source: &Source,
     times: &[f64],
     mut points: Vec<Vec<Option<DVec3>>>,
     options: &TrackOptions,
 ) -> Result<ImportedTrack, FieldError> {
-    let needed = layout.needed();
+    let needed = source.needed;
     let mut report = TrackReport {
-        layout: layout.name().to_owned(),
+        layout: source.name.to_owned(),
         frames: times.len(),
         duration: times[times.len() - 1] - times[0],
         ..TrackReport::default()
@@ -374,10 +485,7 @@ fn convert(
         if series.iter().all(Option::is_none) {
             return Err(FieldError::new(
                 "frames",
-                format!(
-                    "keypoint \"{}\" is missing in every frame",
-                    layout.names()[i]
-                ),
+                format!("keypoint \"{}\" is missing in every frame", source.names[i]),
             ));
         }
         report.filled += fill(times, &mut series, options.max_gap);
@@ -449,7 +557,7 @@ fn estimate_height(frames: &[[DVec3; 14]]) -> Result<f64, FieldError> {
         return Err(FieldError::new(
             "height",
             format!(
-                "the limbs give a height of {h:.3} m, outside (0.5, {MAX_HEIGHT}] m: are the units metres? (give height to override)"
+                "the limbs give a height of {h:.3} m, outside (0.5, {MAX_HEIGHT}] m: are the units metres? (give scale, metres per unit, or height)"
             ),
         ));
     }
