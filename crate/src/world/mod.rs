@@ -95,6 +95,8 @@ pub struct World {
     obstacles: Vec<ObstacleState>,
     scene: Scene,
     owners: Vec<usize>,
+    /// Obstacle `o`'s parts are scene parts `part_start[o]..part_start[o + 1]`.
+    part_start: Vec<usize>,
     /// Per scene part: its index among its obstacle's parts, and its motion.
     part_index: Vec<usize>,
     part_motion: Vec<obstacles::PartMotion>,
@@ -201,6 +203,7 @@ impl World {
             obstacles,
             scene: Scene::default(),
             owners: Vec::new(),
+            part_start: Vec::new(),
             part_index: Vec::new(),
             part_motion: Vec::new(),
             scene_dirty: true,

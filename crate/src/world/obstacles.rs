@@ -283,6 +283,23 @@ impl World {
         }
         self.scene = Scene::new(obstacles);
         self.scene_dirty = false;
+        // `owners` is sorted: each obstacle's parts are one contiguous run.
+        self.part_start.clear();
+        self.part_start.resize(self.obstacles.len() + 1, 0);
+        for &o in &self.owners {
+            self.part_start[o + 1] += 1;
+        }
+        for o in 0..self.obstacles.len() {
+            self.part_start[o + 1] += self.part_start[o];
+        }
+    }
+
+    /// The scene parts of obstacle `o` (empty for an unknown `o`).
+    pub(super) fn parts_of(&self, o: usize) -> std::ops::Range<usize> {
+        match self.part_start.get(o..o + 2) {
+            Some(&[start, end]) => start..end,
+            _ => 0..0,
+        }
     }
 
     pub(super) fn clone_scene_at(&self, t: f64) -> Scene {
@@ -301,8 +318,7 @@ impl World {
     /// and the velocity (m/s) of its material point nearest `p`.
     pub(super) fn nearest_part(&self, o: usize, p: DVec3) -> Option<(usize, DVec3)> {
         let me = Primitive::Point(p);
-        let start = self.owners.partition_point(|&x| x < o);
-        let end = self.owners.partition_point(|&x| x <= o);
+        let std::ops::Range { start, end } = self.parts_of(o);
         // One part moving as a whole (every primitive): no distance needed.
         if end == start + 1
             && let Some(m) = self.part_motion.get(start)
@@ -353,10 +369,7 @@ impl World {
     ) -> Result<(f64, DVec3, DVec3), FieldError> {
         let me = Primitive::Point(p);
         let mut best: Option<(f64, DVec3, DVec3)> = None;
-        // `owners` is sorted: obstacle o's parts are one contiguous run.
-        let start = self.owners.partition_point(|&x| x < o);
-        let end = self.owners.partition_point(|&x| x <= o);
-        for ob in self.scene.obstacles().get(start..end).unwrap_or(&[]) {
+        for ob in self.scene.obstacles().get(self.parts_of(o)).unwrap_or(&[]) {
             let d =
                 distance(&me, &ob.shape).map_err(|e| FieldError::new("scene", e.to_string()))?;
             if best.is_none_or(|b| d.distance < b.0) {

@@ -291,10 +291,8 @@ impl World {
     /// The closest pair of segment `segment` and obstacle `owner` (its
     /// closest part) moved by `offset`, as the controller would see it.
     fn witness_probe(&self, owner: usize, segment: usize, offset: DVec3) -> Option<Probe> {
-        let start = self.owners.partition_point(|&x| x < owner);
-        let end = self.owners.partition_point(|&x| x <= owner);
         let mut best: Option<PairDistance> = None;
-        for index in start..end {
+        for index in self.parts_of(owner) {
             let p = self
                 .scene
                 .pair_moved(&self.skeleton, segment, index, offset)
