@@ -92,6 +92,7 @@ pub fn fit_urdf_js(xml: JsValue, options: JsValue) -> Result<JsValue, JsError> {
 
 /// The imported spec, its collision bodies and the problems (no fitting),
 /// for the viewer's `setMeshesFromUrdf`.
+#[cfg(feature = "render")]
 pub(super) fn bodies_from_js(
     xml: JsValue,
     options: JsValue,
