@@ -794,6 +794,10 @@ export class Viewer {
   /** The current view's name. */
   readonly view: Exclude<ViewName, 'auto'>;
   setRobot(robot: RobotInput): void;
+  /** Sets the robot from a URDF and draws its collision meshes; the result is `fitUrdf`'s (give `result.robot` to `new World`). */
+  setUrdf(xml: string, options: UrdfOptions): UrdfFit;
+  /** Draws a URDF's collision meshes on the current robot, which must be the same arm (a preset): throws when its tip strays from the robot's last frame. */
+  setMeshesFromUrdf(xml: string, options: UrdfOptions): { problems: string[] };
   /** Draws a `World.state()`-shaped object (other fields are ignored). */
   drawState(state: Pick<WorldState, 'skeleton'> & Partial<WorldState>): void;
   /** Draws a live world (nothing is copied through JS); call once per frame after stepping. */

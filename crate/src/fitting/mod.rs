@@ -47,7 +47,7 @@ mod urdf;
 
 pub use align::{SAME_ARM_TOLERANCE, bodies_onto, rigid_fit};
 pub use coverage::{BodyCoverage, Coverage, CoverageOptions, coverage};
-pub use urdf::{UrdfFit, fit_urdf, path_components, resolve_mesh};
+pub use urdf::{UrdfFit, fit_urdf, path_components, resolve_mesh, urdf_bodies};
 
 use glam::DVec3;
 

@@ -164,6 +164,42 @@ pub fn fit_urdf(
     options: &UrdfOptions,
     files: &BTreeMap<String, Vec<u8>>,
 ) -> Result<UrdfFit, FieldError> {
+    let (spec, bodies, problems) = urdf_bodies(xml, options, files)?;
+    let q = vec![0.0; spec.joints.len()];
+    if bodies.is_empty() {
+        return Ok(UrdfFit {
+            robot: spec,
+            before: None,
+            after: None,
+            problems,
+            bodies,
+        });
+    }
+    let o = CoverageOptions::default();
+    let before = coverage(&spec, &q, &bodies, &o)?;
+    let robot = fit_volumes(&spec, &q, &bodies)?;
+    let after = coverage(&robot, &q, &bodies, &o)?;
+    Ok(UrdfFit {
+        robot,
+        before: Some(before),
+        after: Some(after),
+        problems,
+        bodies,
+    })
+}
+
+/// The first half of [`fit_urdf`], without fitting or measuring: the
+/// imported spec (radii as imported), its collision bodies (world frame at
+/// `q = 0`) and the problems (meshes not found or not read, links no
+/// segment moves with), the tip chosen as `fit_urdf` chooses it.
+///
+/// # Errors
+/// A [`FieldError`] when the URDF cannot be imported.
+pub fn urdf_bodies(
+    xml: &str,
+    options: &UrdfOptions,
+    files: &BTreeMap<String, Vec<u8>>,
+) -> Result<(RobotSpec, Vec<Body>, Vec<String>), FieldError> {
     let (mut spec, links) = robot_with_links(xml, options)?;
     let (mut bodies, mut problems) = read_bodies(&links, files);
     let mut loose = unplaced(&spec, &bodies)?;
@@ -199,25 +235,5 @@ pub fn fit_urdf(
             "link \"{name}\": no skeleton segment moves with it (its row has no length); choose a tip past it (a flange or tool frame)"
         ));
     }
-    let q = vec![0.0; spec.joints.len()];
-    if bodies.is_empty() {
-        return Ok(UrdfFit {
-            robot: spec,
-            before: None,
-            after: None,
-            problems,
-            bodies,
-        });
-    }
-    let o = CoverageOptions::default();
-    let before = coverage(&spec, &q, &bodies, &o)?;
-    let robot = fit_volumes(&spec, &q, &bodies)?;
-    let after = coverage(&robot, &q, &bodies, &o)?;
-    Ok(UrdfFit {
-        robot,
-        before: Some(before),
-        after: Some(after),
-        problems,
-        bodies,
-    })
+    Ok((spec, bodies, problems))
 }

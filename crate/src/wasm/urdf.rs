@@ -90,6 +90,26 @@ pub fn fit_urdf_js(xml: JsValue, options: JsValue) -> Result<JsValue, JsError> {
     to_js(&fit_from_js(xml, options)?)
 }
 
+/// The imported spec, its collision bodies and the problems (no fitting),
+/// for the viewer's `setMeshesFromUrdf`.
+#[cfg(feature = "render")]
+pub(super) fn bodies_from_js(
+    xml: JsValue,
+    options: JsValue,
+) -> Result<
+    (
+        crate::kinematics::RobotSpec,
+        Vec<crate::fitting::Body>,
+        Vec<String>,
+    ),
+    JsError,
+> {
+    let xml = xml_of(xml)?;
+    let (options, files) = split_options(options)?;
+    crate::fitting::urdf_bodies(&xml, &options, &files.unwrap_or_default())
+        .map_err(|e| js_error(&e))
+}
+
 /// `fitUrdf`'s work, for the viewer's `setUrdf` too.
 pub(super) fn fit_from_js(xml: JsValue, options: JsValue) -> Result<UrdfFit, JsError> {
     let xml = xml_of(xml)?;

@@ -207,8 +207,9 @@ impl Viewer {
     /// the same arm in another description (a preset's DH table): the tips
     /// agree, after one rigid base transform, to 1 µm over sampled
     /// configurations; the robot and its volumes stay as they are.
-    /// `options` and the result are `setUrdf`'s; the meshes go with the
-    /// next `setRobot`.
+    /// `options` are `setUrdf`'s; the result is `{ problems }` (the meshes
+    /// that could not be found or read); nothing is fitted or measured. The
+    /// meshes go with the next `setRobot`.
     ///
     /// # Errors
     /// `fitUrdf`'s; `setMeshesFromUrdf: no robot; call setRobot first`;
@@ -220,20 +221,24 @@ impl Viewer {
         xml: JsValue,
         options: JsValue,
     ) -> Result<JsValue, JsError> {
-        let fit = super::urdf::fit_from_js(xml, options)?;
-        let from = crate::kinematics::Robot::from_spec(&fit.robot).map_err(|e| js_error(&e))?;
+        let (spec, bodies, problems) = super::urdf::bodies_from_js(xml, options)?;
+        let from = crate::kinematics::Robot::from_spec(&spec).map_err(|e| js_error(&e))?;
         let Some(onto) = self.stage.robot() else {
             return Err(JsError::new(
                 "setMeshesFromUrdf: no robot; call setRobot first",
             ));
         };
-        let bodies = crate::fitting::bodies_onto(&from, onto, &fit.bodies)
+        let bodies = crate::fitting::bodies_onto(&from, onto, &bodies)
             .map_err(|e| JsError::new(&format!("setMeshesFromUrdf: {e}")))?;
         let zero = onto
             .forward(&vec![0.0; onto.dof()])
             .map_err(|e| js_error(&e))?;
         let meshes = crate::view::link_meshes(&bodies, &zero.transforms);
-        let report = to_js(&fit)?;
+        #[derive(Serialize)]
+        struct Report {
+            problems: Vec<String>,
+        }
+        let report = to_js(&Report { problems })?;
         self.stage.set_meshes(meshes);
         Ok(report)
     }
