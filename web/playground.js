@@ -414,6 +414,9 @@ export class Playground {
     // A frame longer than 100 ms (a busy machine, a background tab) does
     // not make the simulation race to catch up: the excess is dropped, and
     // counted (`droppedS`), so that real time is kept or the loss is known.
+    // `wallS`: the page's own clock (frame timestamps × speed) while it
+    // runs; simulated time plus `droppedS` follows it to within a step.
+    this.wallS = (this.wallS ?? 0) + wall * this.speed;
     this.droppedS = (this.droppedS ?? 0) + Math.max(0, wall - 0.1) * this.speed;
     this.acc += Math.min(wall, 0.1) * this.speed;
     let steps = Math.floor(this.acc / dt + 1e-9);
@@ -477,6 +480,7 @@ export class Playground {
       stepMs: (this.stats.stepMs ?? 0) * (1 - k) + stepMs * k,
       drawMs: (this.stats.drawMs ?? 0) * (1 - k) + drawMs * k,
       droppedS: this.droppedS ?? 0,
+      wallS: this.wallS ?? 0,
       backend: this.backend,
     };
   }

@@ -174,9 +174,16 @@ for (const [w, hgt] of [[1280, 800], [390, 844]]) {
       const page = await browser.context.newPage();
       const errors = collectErrors(page);
       await open(page, '?scenario=human-reach');
+      // Wait for the state: the closest part is the hand, and the HUD (drawn
+      // each frame from the state) says so. Read together, at one moment,
+      // since the simulation runs on.
       await page.waitForFunction(() => window.playground.app.world.state().closestPart === 'person:rightHand', null, { timeout: 60_000 });
-      await frames(page, 2);
-      const hud = await page.evaluate(() => window.playground.app.hud.textContent);
+      const seen = await page.waitForFunction(() => {
+        const app = window.playground.app;
+        const part = app.world.state().closestPart;
+        return part === 'person:rightHand' && app.hud.textContent.includes(part) && app.hud.textContent;
+      }, null, { timeout: 60_000 });
+      const hud = await seen.jsonValue();
       assert.match(hud, /person:rightHand/);
       await page.screenshot({ path: path.join(artifacts, `human-reach-${w}x${hgt}.png`) });
       assert.deepEqual(errors, []);
