@@ -4,7 +4,7 @@
 //! the point or stops the arm, and the sensing error's switch risk is
 //! flagged (paper §III-B, §IV).
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::obstacles::SwitchOdds;
 use super::uncertainty::segment_odds;
@@ -175,19 +175,43 @@ impl World {
         dt: f64,
         config: &ControllerConfig,
     ) -> Result<(), FieldError> {
+        // The trackers are taken out while they move (no remove and insert
+        // per point and step), and put back whatever happens.
+        let mut trackers = std::mem::take(&mut self.trackers);
+        trackers.retain(|k, _| selected.points.contains_key(k) || matches!(k, Key::Pinned(_)));
+        let moved = self.move_points(&mut trackers, selected, pairs, dt, config);
+        self.trackers = trackers;
+        moved?;
+        if config.selection == crate::avoidance::Selection::Pinned {
+            for k in 0..config.pinned.len() {
+                self.trackers
+                    .entry(Key::Pinned(k))
+                    .or_insert_with(|| Tracker::new(SkeletonPoint { segment: 0, t: 0.0 }, None));
+            }
+        }
+        Ok(())
+    }
+
+    /// Moves every selected control point's tracker towards its point
+    /// (the body of [`World::track`]).
+    fn move_points(
+        &mut self,
+        trackers: &mut BTreeMap<Key, Tracker>,
+        selected: &Selected,
+        pairs: &[PairDistance],
+        dt: f64,
+        config: &ControllerConfig,
+    ) -> Result<(), FieldError> {
         let t = self.t;
         let settings = TransitionSettings {
             time_per_value: config.transition_time,
             jump_threshold: config.jump_threshold,
         };
-        self.trackers
-            .retain(|k, _| selected.points.contains_key(k) || matches!(k, Key::Pinned(_)));
         let mut point_events = Vec::new();
         for (key, &(mut at, owner)) in &selected.points {
-            let mut tracker = self
-                .trackers
-                .remove(key)
-                .unwrap_or_else(|| Tracker::new(at, owner));
+            let tracker = trackers
+                .entry(key.clone())
+                .or_insert_with(|| Tracker::new(at, owner));
             if let Some((segment, until)) = tracker.lock {
                 if t >= until {
                     tracker.lock = None;
@@ -195,7 +219,7 @@ impl World {
                         owner.map_or_else(String::new, |o| self.obstacles[o].spec.id.clone());
                     self.push(EventKind::Unlock { obstacle });
                 } else if at.segment != segment {
-                    at = self.locked_point(&tracker, segment, pairs);
+                    at = self.locked_point(tracker, segment, pairs);
                 }
             }
             // A switch: the selected point jumps along the skeleton farther
@@ -212,15 +236,7 @@ impl World {
                 self.push_point_events(&name, &mut point_events);
             }
             let hold = tracker.mover.point().segment;
-            self.monitor_chattering(&mut tracker, key, jumped, hold);
-            self.trackers.insert(key.clone(), tracker);
-        }
-        if config.selection == crate::avoidance::Selection::Pinned {
-            for k in 0..config.pinned.len() {
-                self.trackers
-                    .entry(Key::Pinned(k))
-                    .or_insert_with(|| Tracker::new(SkeletonPoint { segment: 0, t: 0.0 }, None));
-            }
+            self.monitor_chattering(tracker, key, jumped, hold);
         }
         Ok(())
     }

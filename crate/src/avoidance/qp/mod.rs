@@ -63,8 +63,11 @@ pub struct Workspace {
     dual: Vec<f64>,
     /// Multipliers of the active constraints (and of the candidate, last).
     u: Vec<f64>,
-    /// Active constraints (see [`Constraint`]).
+    /// Active constraints (see [`Constraints`]).
     active: Vec<usize>,
+    /// Per constraint: active, or a row that cannot be acted on (not a
+    /// candidate either way).
+    skip: Vec<bool>,
 }
 
 /// The inverse of the symmetric positive definite `h` (row-major `n × n`)
@@ -170,6 +173,29 @@ impl Constraints<'_> {
     fn usable(&self, k: usize) -> bool {
         k >= self.rows.len() || self.rows[k].0.iter().any(|a| a.abs() > 1e-12)
     }
+
+    /// The most violated constraint not in `skip` (slack below
+    /// [`VIOLATED`]), read row by row, then the box.
+    fn most_violated(&self, skip: &[bool], x: &[f64]) -> Option<usize> {
+        let mut best = None;
+        let mut lowest = VIOLATED;
+        let mut consider = |k: usize, s: f64| {
+            if s < lowest && !skip[k] {
+                lowest = s;
+                best = Some(k);
+            }
+        };
+        for (k, (a, b)) in self.rows.iter().enumerate() {
+            let ax: f64 = a.iter().zip(x).map(|(p, q)| p * q).sum();
+            consider(k, b - ax);
+        }
+        let (m, n) = (self.rows.len(), x.len());
+        for (i, xi) in x.iter().enumerate() {
+            consider(m + i, self.hi[i] - xi);
+            consider(m + n + i, xi - self.lo[i]);
+        }
+        best
+    }
 }
 
 /// `J = L⁻ᵀ` of `h = L Lᵀ` into `ws.j`; `false` when `h` is not positive
@@ -271,22 +297,12 @@ fn active_set(cons: &Constraints, ws: &mut Workspace, x: &mut [f64]) -> usize {
     }
     ws.u.clear();
     ws.active.clear();
+    ws.skip.clear();
+    ws.skip.extend((0..cons.count()).map(|k| !cons.usable(k)));
     let cap = MAX_STEPS + 3 * cons.count();
     let mut steps = 0;
     loop {
-        // The most violated constraint not yet active.
-        let mut candidate = None;
-        let mut lowest = VIOLATED;
-        for k in 0..cons.count() {
-            if cons.usable(k) && !ws.active.contains(&k) {
-                let s = cons.slack(k, x);
-                if s < lowest {
-                    lowest = s;
-                    candidate = Some(k);
-                }
-            }
-        }
-        let Some(p) = candidate else {
+        let Some(p) = cons.most_violated(&ws.skip, x) else {
             return steps;
         };
         ws.u.push(0.0);
@@ -394,6 +410,7 @@ fn add(p: usize, ws: &mut Workspace, n: usize) {
         ws.r[i * n + q] = ws.d[i];
     }
     ws.active.push(p);
+    ws.skip[p] = true;
 }
 
 /// Removes the active constraint at position `k`: its column leaves `R`,
@@ -401,7 +418,8 @@ fn add(p: usize, ws: &mut Workspace, n: usize) {
 /// triangle.
 fn drop_active(k: usize, ws: &mut Workspace, n: usize) {
     let q = ws.active.len();
-    ws.active.remove(k);
+    let leaving = ws.active.remove(k);
+    ws.skip[leaving] = false;
     ws.u.remove(k);
     for c in k..q - 1 {
         for i in 0..q {
