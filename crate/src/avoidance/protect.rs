@@ -229,14 +229,24 @@ pub fn guards(
     damper: Option<&Damper>,
     out: &mut Vec<Guard>,
 ) -> Result<(), FieldError> {
-    out.clear();
+    // The guards of the last call are written over (their rows' buffers
+    // reused: no allocation per pair and step once the count is reached).
+    let mut used = 0;
     let mut ja = PointJacobians::default();
     let mut jb = PointJacobians::default();
+    let mut row = Vec::with_capacity(robot.dof());
     for p in pairs {
-        jacobian_at(robot, frames, skeleton, p.segment, p.fraction, &mut ja)?;
-        let mut row: Vec<f64> = ja.j_theta.iter().map(|c| p.normal.dot(*c)).collect();
+        if let Err(e) = jacobian_at(robot, frames, skeleton, p.segment, p.fraction, &mut ja) {
+            out.truncate(used);
+            return Err(e);
+        }
+        row.clear();
+        row.extend(ja.j_theta.iter().map(|c| p.normal.dot(*c)));
         if let Some((seg, t)) = p.other {
-            jacobian_at(robot, frames, skeleton, seg, t, &mut jb)?;
+            if let Err(e) = jacobian_at(robot, frames, skeleton, seg, t, &mut jb) {
+                out.truncate(used);
+                return Err(e);
+            }
             for (r, c) in row.iter_mut().zip(&jb.j_theta) {
                 *r -= p.normal.dot(*c);
             }
@@ -260,16 +270,32 @@ pub fn guards(
         if bound.min(soft) >= reach || reach <= 1e-9 {
             continue;
         }
-        out.push(Guard {
-            row,
+        let guard = Guard {
+            row: Vec::new(),
             bound,
             soft,
             distance: p.distance,
             obstacle_speed: p.obstacle_speed,
             segment: p.segment,
             obstacle: p.obstacle,
-        });
+        };
+        if let Some(g) = out.get_mut(used) {
+            let mut buffer = std::mem::take(&mut g.row);
+            buffer.clear();
+            buffer.extend_from_slice(&row);
+            *g = Guard {
+                row: buffer,
+                ..guard
+            };
+        } else {
+            out.push(Guard {
+                row: row.clone(),
+                ..guard
+            });
+        }
+        used += 1;
     }
+    out.truncate(used);
     Ok(())
 }
 
