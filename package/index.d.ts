@@ -278,6 +278,8 @@ export interface Human {
   reach?: number | undefined;
   pose?: HumanPose | undefined;
   animation?: HumanAnimation | undefined;
+  /** Sensing σ of single parts by part name (m per axis, on top of the obstacle's `sensing`). */
+  partSigma?: { [part: string]: number } | undefined;
 }
 
 export type Shape = Primitive | Human;
@@ -465,6 +467,8 @@ export interface ObstacleUncertainty {
   switchProbability: number;
   segment?: number | undefined;
   alternative?: number | undefined;
+  /** A human with `partSigma`: each part's margin (m), by part name. */
+  partMargins?: { [part: string]: number } | undefined;
 }
 
 /** Every event: its time (s) and its kind's fields (docs/scenarios.md, Events). */

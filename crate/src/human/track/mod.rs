@@ -530,6 +530,7 @@ fn convert(
         height,
         reach: 0.0,
         pose: None,
+        part_sigma: None,
         animation: Some(Box::new(AnimationSpec {
             keyframes: Some(keys),
             ..AnimationSpec::default()
