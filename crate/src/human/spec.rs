@@ -49,6 +49,11 @@ pub struct HumanSpec {
     /// `sensing` (see `docs/scenarios.md`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub part_sigma: Option<BTreeMap<String, f64>>,
+    /// What a Monte Carlo study draws for this person in each run (height,
+    /// clip speed, motion, keypoint noise; `docs/monte-carlo.md`); ignored
+    /// by a single simulation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vary: Option<Box<super::vary::HumanVariation>>,
 }
 
 /// Largest per-part sensing σ accepted (m).
@@ -156,6 +161,9 @@ impl HumanSpec {
             None => None,
             Some(a) => Some(self.animation_of(a).map_err(|e| e.within("animation"))?),
         };
+        if let Some(v) = &self.vary {
+            v.validate(self).map_err(|e| e.within("vary"))?;
+        }
         let mut part_sigma = [0.0; PART_NAMES.len()];
         for (name, &sigma) in self.part_sigma.iter().flatten() {
             let field = format!("partSigma.{name}");

@@ -531,6 +531,7 @@ fn convert(
         reach: 0.0,
         pose: None,
         part_sigma: None,
+        vary: None,
         animation: Some(Box::new(AnimationSpec {
             keyframes: Some(keys),
             ..AnimationSpec::default()
