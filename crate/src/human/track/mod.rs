@@ -77,6 +77,7 @@ use crate::error::{FieldError, finite};
 
 mod bvh;
 mod fit;
+mod hierarchy;
 mod layout;
 mod skeleton;
 mod synth;
