@@ -278,6 +278,22 @@ export interface Human {
   reach?: number | undefined;
   pose?: HumanPose | undefined;
   animation?: HumanAnimation | undefined;
+  /** Sensing σ of single parts by part name (m per axis, on top of the obstacle's `sensing`). */
+  partSigma?: { [part: string]: number } | undefined;
+  /** What a Monte Carlo study draws for this person in each run (docs/monte-carlo.md). */
+  vary?: HumanVariation | undefined;
+}
+
+/** Ranges `[min, max]` a study draws from, uniformly, per run. */
+export interface HumanVariation {
+  /** Body height (m). */
+  height?: [number, number] | undefined;
+  /** The clip's speed (m/s); a `linear` motion is rescaled to it. */
+  speed?: [number, number] | undefined;
+  /** Motions of the library, one drawn per run. */
+  clips?: Array<'reach' | 'wave' | 'walk' | 'bend' | 'stepBack'> | undefined;
+  /** One sensing σ for every part (m). */
+  partSigma?: [number, number] | undefined;
 }
 
 export type Shape = Primitive | Human;
@@ -465,6 +481,8 @@ export interface ObstacleUncertainty {
   switchProbability: number;
   segment?: number | undefined;
   alternative?: number | undefined;
+  /** A human with `partSigma`: each part's margin (m), by part name. */
+  partMargins?: { [part: string]: number } | undefined;
 }
 
 /** Every event: its time (s) and its kind's fields (docs/scenarios.md, Events). */

@@ -130,3 +130,22 @@ test('importTrack reads BVH motion capture; malformed files are refused naming t
   assert.equal(JSON.stringify(w.state().obstacles), before);
   w.free();
 });
+
+test('a human part seen with its own sigma gets its own margin; a bad partSigma is refused naming the field', () => {
+  const { World, exampleScenario } = require('../../crate/pkg-node/skeleton_avoidance.js');
+  const s = exampleScenario('human-reach');
+  s.obstacles[0].shape.partSigma = { rightHand: 0.04 };
+  s.sensing = { person: { sigma: 0.003 } };
+  const w = new World(s);
+  const u = w.state().uncertainty[0];
+  const hand = 3 * Math.sqrt(0.003 ** 2 + 0.04 ** 2);
+  assert.ok(Math.abs(u.partMargins.rightHand - hand) < 1e-12, JSON.stringify(u));
+  assert.ok(Math.abs(u.partMargins.leftHand - 3 * 0.003) < 1e-12, JSON.stringify(u));
+  assert.ok(Math.abs(u.radius - hand) < 1e-12);
+  const before = JSON.stringify(w.state().obstacles);
+  const bad = { ...s.obstacles[0].shape, partSigma: { rightHnd: 0.01 } };
+  assert.throws(() => w.setObstacleShape('person', bad), /shape\.partSigma\.rightHnd: unknown part/);
+  assert.throws(() => w.setObstacleShape('person', { ...bad, partSigma: { head: -1 } }), /shape\.partSigma\.head: must be in \[0, 1\] m/);
+  assert.equal(JSON.stringify(w.state().obstacles), before);
+  w.free();
+});

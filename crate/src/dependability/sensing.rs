@@ -230,6 +230,42 @@ impl SensorModel {
     }
 }
 
+impl SensorModel {
+    /// [`SensorModel::margin`] with white Gaussian noise of `extra` (m per
+    /// axis) added to the model's own, as for one part of a body whose
+    /// keypoints are seen with their own error: the same formula with
+    /// `σ = √(sigma² + correlatedSigma² + extra²)` (equal to
+    /// [`SensorModel::margin`] when `extra` is 0).
+    #[must_use]
+    pub fn margin_with(&self, extra: f64) -> f64 {
+        if extra == 0.0 {
+            return self.margin();
+        }
+        let sigma = (self.sigma * self.sigma
+            + self.correlated_sigma * self.correlated_sigma
+            + extra * extra)
+            .sqrt();
+        distance_uncertainty(DVec3::Z, self.bound + self.bias_bound, sigma)
+    }
+
+    /// [`SensorModel::covariance`] with white Gaussian noise of `extra`
+    /// (m per axis) added.
+    #[must_use]
+    pub fn covariance_with(&self, extra: f64) -> Covariance {
+        if extra == 0.0 {
+            return self.covariance();
+        }
+        let c = self.covariance();
+        Covariance::isotropic(c.variance_along(DVec3::X) + extra * extra)
+    }
+
+    /// A draw of white Gaussian noise of `sigma` per axis (m) from the
+    /// model's random stream (a part's own sensing error).
+    pub fn noise(&mut self, sigma: f64) -> DVec3 {
+        sigma * self.gaussian()
+    }
+}
+
 /// A point uniform in the unit ball (rejection sampling).
 fn ball(rng: &mut Rng) -> DVec3 {
     loop {

@@ -25,7 +25,9 @@
 //! collision see the speed of the hand that approaches, not the body's.
 //!
 //! In a scenario a human is the shape `{ "type": "human", position,
-//! heading?, height?, reach?, pose?, animation? }` ([`HumanSpec`]; the
+//! heading?, height?, reach?, pose?, animation?, partSigma?, vary? }`
+//! ([`HumanSpec`]; `partSigma` gives parts their own sensing error, `vary`
+//! what a Monte Carlo study draws per run ([`HumanVariation`]); the
 //! format is in `docs/scenarios.md`); its parts answer to the obstacle's
 //! one id and each is reported as `id:part` (`person:leftForearm`).
 
@@ -35,8 +37,10 @@ pub mod library;
 mod pose;
 mod spec;
 pub mod track;
+mod vary;
 
 pub use animation::{Animation, Keyframe, MAX_KEYFRAMES, MAX_SHIFT, Sampled};
 pub use body::{PART_NAMES, Part, Posed, Root, pose_body, proportion, rotation};
 pub use pose::{JOINT_COUNT, JOINTS, JointRange, Pose, joint, joint_index};
-pub use spec::{AnimationSpec, Human, HumanSpec, MAX_HEIGHT};
+pub use spec::{AnimationSpec, Human, HumanSpec, MAX_HEIGHT, MAX_PART_SIGMA};
+pub use vary::{HumanVariation, MAX_VARY_SPEED};

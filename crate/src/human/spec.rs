@@ -1,11 +1,13 @@
 //! The JSON form of a human ([`HumanSpec`]: `{ "type": "human", … }`) and
 //! its checked, ready-to-pose form ([`Human`]).
 
+use std::collections::BTreeMap;
+
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::animation::{Animation, Keyframe};
-use super::body::{Posed, Root, pose_body};
+use super::body::{PART_NAMES, Posed, Root, pose_body};
 use super::library;
 use super::pose::{JOINT_COUNT, Pose, joint};
 use crate::error::{FieldError, finite, finite3, positive};
@@ -40,7 +42,22 @@ pub struct HumanSpec {
     /// Keyframes or a motion of the library.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub animation: Option<Box<AnimationSpec>>,
+    /// Sensing error of single parts, by part name (`{ "rightHand": 0.04
+    /// }`): the standard deviation per axis (m, ≥ 0, at most
+    /// [`MAX_PART_SIGMA`]) of white Gaussian noise on the position of the
+    /// keypoints that place the part, on top of the obstacle's own
+    /// `sensing` (see `docs/scenarios.md`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub part_sigma: Option<BTreeMap<String, f64>>,
+    /// What a Monte Carlo study draws for this person in each run (height,
+    /// clip speed, motion, keypoint noise; `docs/monte-carlo.md`); ignored
+    /// by a single simulation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vary: Option<Box<super::vary::HumanVariation>>,
 }
+
+/// Largest per-part sensing σ accepted (m).
+pub const MAX_PART_SIGMA: f64 = 1.0;
 
 fn default_height() -> f64 {
     1.75
@@ -88,6 +105,7 @@ pub struct Human {
     spec: HumanSpec,
     rest: Pose,
     animation: Option<Animation>,
+    part_sigma: [f64; PART_NAMES.len()],
 }
 
 impl HumanSpec {
@@ -143,10 +161,32 @@ impl HumanSpec {
             None => None,
             Some(a) => Some(self.animation_of(a).map_err(|e| e.within("animation"))?),
         };
+        if let Some(v) = &self.vary {
+            v.validate(self).map_err(|e| e.within("vary"))?;
+        }
+        let mut part_sigma = [0.0; PART_NAMES.len()];
+        for (name, &sigma) in self.part_sigma.iter().flatten() {
+            let field = format!("partSigma.{name}");
+            let Some(k) = PART_NAMES.iter().position(|n| n == name) else {
+                return Err(FieldError::new(
+                    field,
+                    format!("unknown part (expected one of {})", PART_NAMES.join(", ")),
+                ));
+            };
+            finite(&field, sigma)?;
+            if !(0.0..=MAX_PART_SIGMA).contains(&sigma) {
+                return Err(FieldError::new(
+                    field,
+                    format!("must be in [0, {MAX_PART_SIGMA}] m (got {sigma})"),
+                ));
+            }
+            part_sigma[k] = sigma;
+        }
         Ok(Human {
             spec: self.clone(),
             rest: self.rest_pose(),
             animation,
+            part_sigma,
         })
     }
 
@@ -171,6 +211,19 @@ impl Human {
     #[must_use]
     pub fn spec(&self) -> &HumanSpec {
         &self.spec
+    }
+
+    /// The sensing σ of each part (m), in the order of [`PART_NAMES`]
+    /// (zero where `partSigma` names none).
+    #[must_use]
+    pub fn part_sigma(&self) -> &[f64; PART_NAMES.len()] {
+        &self.part_sigma
+    }
+
+    /// Whether some part has its own sensing σ.
+    #[must_use]
+    pub fn has_part_sigma(&self) -> bool {
+        self.part_sigma.iter().any(|s| *s > 0.0)
     }
 
     /// Whether its limbs move.

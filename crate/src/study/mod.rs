@@ -12,6 +12,9 @@
 //!   replaced; everything else (bias bound, noise, latency, motions,
 //!   controller) is as the scenario says. A scenario sensed exactly gives
 //!   the same run every time.
+//! * **Varied people.** A human with `vary` ([`crate::human::HumanVariation`])
+//!   is drawn anew in each run (height, clip speed, motion, keypoint noise)
+//!   from the stream `derive_seed(seed, i, VARY_STREAM + k)`.
 //! * **One run** ([`run_one`]) steps a [`crate::world::World`] for the
 //!   scenario's duration and keeps a [`RunRow`]: the smallest true
 //!   clearance over every control step (not only the trace's samples),
@@ -45,7 +48,7 @@ mod run;
 mod shard;
 
 pub use report::{ClearanceQuantiles, MonteCarloReport, Probability, SwitchRate, Z95};
-pub use run::{MOVING_SPEED, RunRow, run_one, run_scenario};
+pub use run::{MOVING_SPEED, RunRow, VARY_STREAM, run_one, run_scenario};
 pub use shard::Shard;
 
 /// Largest number of runs of one study (and of one call of

@@ -5,8 +5,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::dependability::EventKind;
-use crate::rng::derive_seed;
-use crate::scenario::{Scenario, ScenarioError};
+use crate::rng::{Rng, derive_seed};
+use crate::scenario::{Motion, Scenario, ScenarioError, ShapeSpec};
 use crate::world::World;
 
 /// Joint speed above which the arm counts as moving (rad/s or m/s): a
@@ -52,9 +52,16 @@ pub struct RunRow {
     pub transition_slack: Option<f64>,
 }
 
+/// Where the streams of the humans' draws start (`derive_seed(seed, run,
+/// VARY_STREAM + k)` for obstacle `k`), apart from the sensing seeds.
+pub const VARY_STREAM: u64 = 1 << 32;
+
 /// `scenario` as run `run` of a study seeded with `seed`: obstacle `k`
 /// gets the sensing seed [`derive_seed`]`(seed, run, k)` (replacing the
-/// scenario's own); everything else as given.
+/// scenario's own), and a human with `vary` the person drawn from
+/// `derive_seed(seed, run, VARY_STREAM + k)` ([`crate::human::HumanVariation::draw`]; a
+/// `linear` motion rescaled to a drawn clip speed); everything else as
+/// given.
 #[must_use]
 pub fn run_scenario(scenario: &Scenario, seed: u64, run: u64) -> Scenario {
     let mut s = scenario.clone();
@@ -62,6 +69,24 @@ pub fn run_scenario(scenario: &Scenario, seed: u64, run: u64) -> Scenario {
         let mut spec = scenario.sensing.for_obstacle(&o.id);
         spec.seed = Some(derive_seed(seed, run, k as u64));
         s.sensing.obstacles.insert(o.id.clone(), spec);
+    }
+    for (k, o) in s.obstacles.iter_mut().enumerate() {
+        let ShapeSpec::Human(h) = &o.shape else {
+            continue;
+        };
+        let Some(v) = h.vary.as_deref() else {
+            continue;
+        };
+        let mut rng = Rng::new(derive_seed(seed, run, VARY_STREAM + k as u64));
+        let (drawn, speed) = v.draw(h, &mut rng);
+        o.shape = ShapeSpec::Human(drawn);
+        if let (Some(speed), Some(Motion::Linear { velocity })) = (speed, o.motion.as_mut()) {
+            let v = glam::DVec3::from_array(*velocity);
+            let n = v.length();
+            if n > 0.0 {
+                *velocity = (v * (speed / n)).to_array();
+            }
+        }
     }
     s
 }

@@ -54,8 +54,10 @@ impl World {
                         .copied()
                         .unwrap_or_default();
                     self.end_pairs(cfg, p, id as usize, o, &motion, &mut out);
+                    // The part's own margin (its own σ with `partSigma`).
+                    let margin = self.obstacles[o].part_margin(self.part_index[id as usize]);
                     (
-                        p.distance - self.obstacles[o].margin,
+                        p.distance - margin,
                         Some(o),
                         None,
                         -p.normal.dot(motion.velocity_at(p.point_other)),
@@ -141,7 +143,8 @@ impl World {
             let Ok(d) = distance(&Primitive::Point(end), shape) else {
                 continue;
             };
-            let clearance = d.distance - Skeleton::radius_at(seg, t) - self.obstacles[o].margin;
+            let margin = self.obstacles[o].part_margin(self.part_index[part]);
+            let clearance = d.distance - Skeleton::radius_at(seg, t) - margin;
             if clearance > cfg.influence_distance || d.distance <= 0.0 {
                 continue;
             }

@@ -98,7 +98,7 @@ impl World {
         let radius = Skeleton::radius_at(&self.skeleton.segments[at.segment], at.t);
         let position = dh.position(&self.robot, &self.frames);
         let (d, normal, _, owner) = self.locate(key, owner, position, radius)?;
-        let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
+        let margin = owner.map_or(0.0, |o| self.margin_near(o, position));
         Ok((dh, normal, d - margin))
     }
 

@@ -7,7 +7,9 @@
 //! part carries a [`PartMotion`], so that the protective layer and the time
 //! to collision read the speed of the part that approaches (a reaching
 //! hand at 2 m/s) rather than the body's (ISO 13855 sizes separation by the
-//! approaching part's speed).
+//! approaching part's speed). A human's `partSigma` gives single parts
+//! their own sensing noise and margin ([`ObstacleState::part_margin`]):
+//! each guarded pair subtracts its own part's.
 
 use glam::DVec3;
 
@@ -90,8 +92,13 @@ pub(super) struct ObstacleState {
     /// The margin of the sensing error at this step (m): the sensor's own
     /// ([`SensorModel::margin`]) plus `latency ×` the obstacle's speed.
     pub(super) margin: f64,
-    /// Covariance of the sensed position ([`SensorModel::covariance`]).
+    /// Covariance of the sensed position ([`SensorModel::covariance`]; a
+    /// human with `partSigma`: with its largest part σ).
     pub(super) covariance: Covariance,
+    /// A human with `partSigma`: the margin of each part at this step,
+    /// with the part's own σ ([`SensorModel::margin_with`]); `margin` is
+    /// then their largest. Empty otherwise.
+    pub(super) part_margins: Vec<f64>,
     /// The monitor's last switch probability of this obstacle's closest
     /// segment, with that segment and the likeliest other one.
     pub(super) switch: SwitchOdds,
@@ -117,17 +124,60 @@ impl ObstacleState {
         let s = scenario.sensing.for_obstacle(&spec.id);
         let seed = s.seed.unwrap_or(1 + index as u64);
         let sensor = SensorModel::from_spec(&s, seed);
-        Ok(Self {
+        let largest = human
+            .as_ref()
+            .map_or(0.0, |h| h.part_sigma().iter().copied().fold(0.0, f64::max));
+        let mut me = Self {
             reference: reference_point(&spec.shape),
             parts,
             human,
             dragged: None,
             margin: sensor.margin(),
-            covariance: sensor.covariance(),
+            covariance: sensor.covariance_with(largest),
+            part_margins: Vec::new(),
             switch: SwitchOdds::default(),
             sensor,
             spec,
-        })
+        };
+        me.part_margins_for(0.0);
+        Ok(me)
+    }
+
+    /// The parts' own sensing σ (m), `None` unless a human gives some.
+    fn part_sigma(&self) -> Option<&[f64; crate::human::PART_NAMES.len()]> {
+        self.human
+            .as_ref()
+            .filter(|h| h.has_part_sigma())
+            .map(Human::part_sigma)
+    }
+
+    /// Fills [`ObstacleState::part_margins`] (each part's margin plus
+    /// `lag`, the latency's share) and sets `margin` to their largest.
+    fn part_margins_for(&mut self, lag: f64) {
+        let Some(sigma) = self.part_sigma().copied() else {
+            self.part_margins.clear();
+            return;
+        };
+        self.part_margins.clear();
+        self.part_margins
+            .extend(sigma.iter().map(|s| self.sensor.margin_with(*s) + lag));
+        self.margin = self
+            .part_margins
+            .iter()
+            .copied()
+            .fold(self.margin, f64::max);
+    }
+
+    /// The margin of part `k` (m): its own with `partSigma`, else the
+    /// obstacle's.
+    pub(super) fn part_margin(&self, k: usize) -> f64 {
+        self.part_margins.get(k).copied().unwrap_or(self.margin)
+    }
+
+    /// Whether its position is sensed with an error (the obstacle's
+    /// `sensing` or a part's own σ).
+    pub(super) fn noisy(&self) -> bool {
+        !self.sensor.is_exact() || self.part_sigma().is_some()
     }
 
     pub(super) fn offset(&self, t: f64) -> DVec3 {
@@ -166,6 +216,7 @@ impl ObstacleState {
     pub(super) fn update_margin(&mut self, t: f64, dt: f64) {
         let latency = self.sensor.latency();
         self.margin = self.sensor.margin();
+        let mut lag = 0.0;
         if latency > 0.0 {
             let speed = self
                 .parts_at(t, self.offset(t), self.velocity(t, dt))
@@ -173,13 +224,15 @@ impl ObstacleState {
                 .map(|(_, m)| m.peak_speed())
                 .fold(0.0, f64::max);
             if speed.is_finite() {
-                self.margin += latency * speed;
+                lag = latency * speed;
+                self.margin += lag;
             }
         }
+        self.part_margins_for(lag);
     }
 
     pub(super) fn moves(&self) -> bool {
-        !self.sensor.is_exact()
+        self.noisy()
             || self.human.as_ref().is_some_and(Human::animated)
             || self
                 .spec
@@ -273,7 +326,15 @@ impl World {
             }
             let off = o.offset(seen) + noise;
             let v = o.velocity(seen, dt);
-            for (i, (shape, motion)) in o.parts_at(seen, off, v).into_iter().enumerate() {
+            let part_sigma = o.part_sigma().copied().filter(|_| sensed);
+            for (i, (mut shape, motion)) in o.parts_at(seen, off, v).into_iter().enumerate() {
+                // A part seen with its own error moves by its own draw.
+                if let Some(s) = part_sigma
+                    .and_then(|s| s.get(i).copied())
+                    .filter(|s| *s > 0.0)
+                {
+                    shape = shape.translated(o.sensor.noise(s));
+                }
                 let id = self.owners.len() as u32;
                 self.owners.push(k);
                 self.part_index.push(i);
@@ -342,6 +403,36 @@ impl World {
     /// nearest part's), zero when it has none.
     pub(super) fn approach_velocity(&self, o: usize, p: DVec3) -> DVec3 {
         self.nearest_part(o, p).map_or(DVec3::ZERO, |(_, v)| v)
+    }
+
+    /// The sensing margin (m) to subtract from the distance between `p`
+    /// and obstacle `o`: the obstacle's, or, for a human with `partSigma`,
+    /// the one that makes `distance − margin` the smallest over its parts
+    /// of `distance to the part − the part's margin`.
+    pub(super) fn margin_near(&self, o: usize, p: DVec3) -> f64 {
+        let ob = &self.obstacles[o];
+        if ob.part_margins.is_empty() {
+            return ob.margin;
+        }
+        let me = Primitive::Point(p);
+        let start = self.owners.partition_point(|&x| x < o);
+        let end = self.owners.partition_point(|&x| x <= o);
+        let (mut nearest, mut effective) = (f64::INFINITY, f64::INFINITY);
+        for id in start..end {
+            let (Some(part), Some(&k)) = (self.scene.obstacles().get(id), self.part_index.get(id))
+            else {
+                continue;
+            };
+            if let Ok(d) = distance(&me, &part.shape) {
+                nearest = nearest.min(d.distance);
+                effective = effective.min(d.distance - ob.part_margin(k));
+            }
+        }
+        if nearest.is_finite() && effective.is_finite() {
+            nearest - effective
+        } else {
+            ob.margin
+        }
     }
 
     /// `id:part` (`person:leftForearm`) of the part of human obstacle `o`

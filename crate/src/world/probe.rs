@@ -22,6 +22,9 @@ pub struct GuardedPair {
     pub segment: usize,
     /// Clearance, sensing margin subtracted (m).
     pub distance: f64,
+    /// The sensing margin subtracted (m): the obstacle's, or for a human
+    /// with `partSigma` its part's own (0 for a self pair).
+    pub margin: f64,
     /// How fast the obstacle's nearest part closes in along the pair's
     /// normal (m/s, positive approaching): a reaching hand's own speed,
     /// not its body's.
@@ -84,6 +87,16 @@ impl World {
                 part: g.part.and_then(|id| self.scene_part_name(id)),
                 segment: g.segment,
                 distance: g.distance,
+                margin: match (g.obstacle, g.part) {
+                    (Some(o), Some(id)) => self
+                        .part_index
+                        .get(id)
+                        .map_or(self.obstacles[o].margin, |&k| {
+                            self.obstacles[o].part_margin(k)
+                        }),
+                    (Some(o), None) => self.obstacles[o].margin,
+                    _ => 0.0,
+                },
                 approach_speed: g.obstacle_speed,
                 protective_distance: p.safety_distance + g.obstacle_speed.max(0.0) * reach,
             })

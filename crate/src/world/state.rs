@@ -105,6 +105,10 @@ pub struct Uncertainty {
     /// The likeliest other segment (when there is one).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub alternative: Option<usize>,
+    /// A human with `partSigma`: the margin of each part (m), with its own
+    /// σ, by part name; `radius` is their largest.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub part_margins: Option<std::collections::BTreeMap<String, f64>>,
 }
 
 /// Everything a viewer needs after a step (serde, camelCase).
@@ -280,6 +284,13 @@ impl World {
                     switch_probability: o.switch.probability,
                     segment: o.switch.segment,
                     alternative: o.switch.alternative,
+                    part_margins: (!o.part_margins.is_empty()).then(|| {
+                        crate::human::PART_NAMES
+                            .iter()
+                            .zip(&o.part_margins)
+                            .map(|(n, m)| ((*n).to_owned(), *m))
+                            .collect()
+                    }),
                 })
                 .collect(),
             command: self.request.clone(),

@@ -17,6 +17,7 @@ use crate::skeleton::Skeleton;
 use crate::transition::dh_motion;
 
 use super::monitor::Approach;
+use super::obstacles::ObstacleState;
 use super::state::ControlPointState;
 use super::uncertainty::SigmaInput;
 
@@ -117,7 +118,7 @@ impl World {
                 .map_err(|e| FieldError::new("scene", e.to_string()))
         };
         let pairs = query(&self.scene)?;
-        let exact = if self.obstacles.iter().any(|o| !o.sensor.is_exact()) {
+        let exact = if self.obstacles.iter().any(ObstacleState::noisy) {
             Some(query(&self.clone_scene_at(self.t))?)
         } else {
             None
@@ -195,7 +196,7 @@ impl World {
                 _ => owner,
             };
             let (dist, normal, witness, owner) = self.locate(&key, owner, position, radius)?;
-            let margin = owner.map_or(0.0, |o| self.obstacles[o].margin);
+            let margin = owner.map_or(0.0, |o| self.margin_near(o, position));
             let effective = dist - margin;
             let ap = ActivePoint {
                 dh,

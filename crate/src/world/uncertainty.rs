@@ -185,7 +185,8 @@ impl World {
     /// What an obstacle of figure `shape` sensed with `sensing` would face
     /// with the arm where it is: its clearance and the probability that
     /// its closest segment, as sensed, differs from the ideal one — one
-    /// cell of a risk map (the picture the paper's fig. 4 asks for).
+    /// cell of a risk map (the picture the paper's fig. 4 asks for). A
+    /// human's `partSigma` adds its largest part's σ.
     ///
     /// # Errors
     /// An invalid figure (`shape…`) or sensing (`sensing.…`).
@@ -205,7 +206,11 @@ impl World {
                 alternative: None,
             });
         };
-        let covariance = SensorModel::from_spec(sensing, 0).covariance();
+        // A human's `partSigma`: its largest part's, as in a world.
+        let largest = super::obstacles::human_of(shape)
+            .map_err(ScenarioError::Field)?
+            .map_or(0.0, |h| h.part_sigma().iter().copied().fold(0.0, f64::max));
+        let covariance = SensorModel::from_spec(sensing, 0).covariance_with(largest);
         let jump = self.scenario.controller.jump_threshold;
         let (odds, _) = segment_odds(&pairs, best, jump, &covariance);
         Ok(Risk {

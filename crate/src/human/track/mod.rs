@@ -77,6 +77,7 @@ use crate::error::{FieldError, finite};
 
 mod bvh;
 mod fit;
+mod hierarchy;
 mod layout;
 mod skeleton;
 mod synth;
@@ -530,6 +531,8 @@ fn convert(
         height,
         reach: 0.0,
         pose: None,
+        part_sigma: None,
+        vary: None,
         animation: Some(Box::new(AnimationSpec {
             keyframes: Some(keys),
             ..AnimationSpec::default()

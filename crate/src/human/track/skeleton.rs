@@ -20,7 +20,7 @@
 //! | head | `Head` (the middle of the joint and its `End Site` when it has one: the head's centre) |
 //! | hips | `Hips`, `Hip`, `Pelvis` (no side; must exist: the root or below it) |
 
-use super::bvh::Hierarchy;
+use super::hierarchy::Hierarchy;
 use crate::error::FieldError;
 
 const SHOULDER: &[&str] = &["Arm", "UpArm", "UpperArm", "Humerus", "Shoulder"];

@@ -1,0 +1,353 @@
+//! The `HIERARCHY` of a BVH file: its joints, offsets and channels, read
+//! from a lazy stream of tokens (see [`super::bvh`] for the format and what
+//! is refused).
+
+use glam::DVec3;
+
+use super::bvh::{MAX_BVH_JOINTS, MAX_BVH_VALUE};
+use crate::error::FieldError;
+
+/// Longest joint name (characters).
+const MAX_NAME: usize = 200;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Channel {
+    Position(usize),
+    Rotation(usize),
+}
+
+impl Channel {
+    fn from_name(name: &str) -> Option<Self> {
+        let axis = match name.as_bytes().first() {
+            Some(b'X' | b'x') => 0,
+            Some(b'Y' | b'y') => 1,
+            Some(b'Z' | b'z') => 2,
+            _ => return None,
+        };
+        match name.get(1..).map(str::to_ascii_lowercase).as_deref() {
+            Some("position") => Some(Self::Position(axis)),
+            Some("rotation") => Some(Self::Rotation(axis)),
+            _ => None,
+        }
+    }
+
+    pub(super) fn name(self) -> String {
+        let (axis, kind) = match self {
+            Self::Position(a) => (a, "position"),
+            Self::Rotation(a) => (a, "rotation"),
+        };
+        format!("{}{kind}", ["X", "Y", "Z"][axis])
+    }
+}
+
+/// One joint of the hierarchy.
+#[derive(Clone, Debug)]
+pub(crate) struct Joint {
+    pub name: String,
+    pub(super) parent: Option<usize>,
+    pub(super) offset: DVec3,
+    pub(super) channels: Vec<Channel>,
+    /// Index of its first channel in a frame's values.
+    pub(super) first: usize,
+    /// Its first `End Site`'s offset.
+    pub(super) end: Option<DVec3>,
+}
+
+/// The hierarchy: joints in the file's order (a parent before its
+/// children) and the number of values per frame.
+#[derive(Clone, Debug)]
+pub(crate) struct Hierarchy {
+    pub joints: Vec<Joint>,
+    pub(super) channels: usize,
+}
+
+/// A lazy stream of whitespace-separated tokens with their line numbers.
+pub(super) struct Tokens<'a> {
+    pub(super) lines: std::iter::Enumerate<std::str::Lines<'a>>,
+    pub(super) line: usize,
+    rest: std::str::SplitWhitespace<'a>,
+}
+
+impl<'a> Tokens<'a> {
+    pub(super) fn new(text: &'a str) -> Self {
+        Self {
+            lines: text.lines().enumerate(),
+            line: 0,
+            rest: "".split_whitespace(),
+        }
+    }
+
+    pub(super) fn next(&mut self) -> Option<(usize, &'a str)> {
+        loop {
+            if let Some(t) = self.rest.next() {
+                return Some((self.line, t));
+            }
+            let (k, l) = self.lines.next()?;
+            self.line = k + 1;
+            self.rest = l.split_whitespace();
+        }
+    }
+
+    /// The next token on the current line.
+    pub(super) fn same_line(&mut self) -> Option<&'a str> {
+        self.rest.next()
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Open {
+    Joint(usize),
+    End(usize),
+}
+
+pub(super) fn number(field: &str, token: Option<&str>) -> Result<f64, FieldError> {
+    let Some(token) = token else {
+        return Err(FieldError::new(field, "expected a number, the line ends"));
+    };
+    match token.parse::<f64>() {
+        Ok(x) if x.is_finite() && x.abs() <= MAX_BVH_VALUE => Ok(x),
+        Ok(x) if x.is_finite() => Err(FieldError::new(
+            field,
+            format!("{x} is beyond ±{MAX_BVH_VALUE:e}"),
+        )),
+        Ok(_) => Err(FieldError::new(
+            field,
+            format!("\"{token}\" is not a finite number"),
+        )),
+        Err(_) => Err(FieldError::new(
+            field,
+            format!("\"{}\" is not a number", clip(token)),
+        )),
+    }
+}
+
+/// At most 40 characters of `s`, for messages.
+pub(super) fn clip(s: &str) -> String {
+    let mut out: String = s.chars().take(40).collect();
+    if out.len() < s.len() {
+        out.push('…');
+    }
+    out
+}
+
+/// The name after `ROOT` or `JOINT` (the rest of the line, a trailing `{`
+/// opening its block) and whether the `{` was there.
+fn joint_name(tok: &mut Tokens<'_>, line: usize) -> Result<(String, bool), FieldError> {
+    let mut words: Vec<&str> = Vec::new();
+    let mut brace = false;
+    while let Some(w) = tok.same_line() {
+        if w == "{" {
+            brace = true;
+            break;
+        }
+        words.push(w);
+        if words.len() > MAX_NAME {
+            break;
+        }
+    }
+    let name = words.join(" ");
+    if name.is_empty() {
+        return Err(FieldError::new(
+            format!("line {line}"),
+            "a joint needs a name",
+        ));
+    }
+    if name.chars().count() > MAX_NAME {
+        return Err(FieldError::new(
+            format!("line {line}"),
+            format!("a joint name of at most {MAX_NAME} characters"),
+        ));
+    }
+    if let Some(extra) = tok.same_line() {
+        return Err(FieldError::new(
+            format!("line {line}"),
+            format!("unexpected \"{}\" after the joint's {{", clip(extra)),
+        ));
+    }
+    Ok((name, brace))
+}
+
+/// Reads the channels of joint `j` (after `CHANNELS`).
+fn channels(tok: &mut Tokens<'_>, joint: &mut Joint, first: usize) -> Result<(), FieldError> {
+    let field = format!("{}.CHANNELS", joint.name);
+    if !joint.channels.is_empty() {
+        return Err(FieldError::new(field, "given twice"));
+    }
+    let n = tok
+        .next()
+        .and_then(|(_, t)| t.parse::<usize>().ok())
+        .filter(|n| *n <= 6)
+        .ok_or_else(|| FieldError::new(&field, "expected a count of 0 to 6 channels"))?;
+    for _ in 0..n {
+        let (_, t) = tok.next().unwrap_or((0, ""));
+        let c = Channel::from_name(t).ok_or_else(|| {
+            FieldError::new(
+                &field,
+                format!(
+                    "unknown channel \"{}\" (expected Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation)",
+                    clip(t)
+                ),
+            )
+        })?;
+        joint.channels.push(c);
+    }
+    joint.first = first;
+    Ok(())
+}
+
+/// Reads the `HIERARCHY` up to and including `MOTION`.
+pub(super) fn hierarchy(tok: &mut Tokens<'_>) -> Result<Hierarchy, FieldError> {
+    if !matches!(tok.next(), Some((_, "HIERARCHY"))) {
+        return Err(FieldError::new(
+            "HIERARCHY",
+            "a BVH file starts with HIERARCHY",
+        ));
+    }
+    let mut joints: Vec<Joint> = Vec::new();
+    let mut stack: Vec<Open> = Vec::new();
+    let mut pending: Option<Open> = None;
+    let mut count = 0;
+    loop {
+        let Some((line, t)) = tok.next() else {
+            return Err(FieldError::new(
+                "MOTION",
+                "missing: the file ends inside its HIERARCHY (truncated?)",
+            ));
+        };
+        let at = format!("line {line}");
+        if pending.is_some() && t != "{" {
+            return Err(FieldError::new(
+                at,
+                format!("expected {{, got \"{}\"", clip(t)),
+            ));
+        }
+        match t {
+            "ROOT" | "JOINT" => {
+                let parent = match (t, stack.last()) {
+                    ("ROOT", None) if joints.is_empty() => None,
+                    ("ROOT", _) => {
+                        return Err(FieldError::new(
+                            "ROOT",
+                            format!(
+                                "only one ROOT, at the top of the HIERARCHY (another on line {line})"
+                            ),
+                        ));
+                    }
+                    (_, Some(Open::Joint(p))) => Some(*p),
+                    _ => return Err(FieldError::new(at, "JOINT outside a joint's braces")),
+                };
+                let (name, brace) = joint_name(tok, line)?;
+                if joints.len() >= MAX_BVH_JOINTS {
+                    return Err(FieldError::new(
+                        "HIERARCHY",
+                        format!("at most {MAX_BVH_JOINTS} joints"),
+                    ));
+                }
+                joints.push(Joint {
+                    name,
+                    parent,
+                    offset: DVec3::ZERO,
+                    channels: Vec::new(),
+                    first: 0,
+                    end: None,
+                });
+                let open = Open::Joint(joints.len() - 1);
+                if brace {
+                    stack.push(open);
+                } else {
+                    pending = Some(open);
+                }
+            }
+            "End" => {
+                let Some(Open::Joint(j)) = stack.last().copied() else {
+                    return Err(FieldError::new(at, "End Site outside a joint's braces"));
+                };
+                if tok.same_line() != Some("Site") {
+                    return Err(FieldError::new(at, "expected End Site"));
+                }
+                match tok.same_line() {
+                    Some("{") => stack.push(Open::End(j)),
+                    None => pending = Some(Open::End(j)),
+                    Some(x) => {
+                        return Err(FieldError::new(at, format!("unexpected \"{}\"", clip(x))));
+                    }
+                }
+            }
+            "{" => match pending.take() {
+                Some(p) => stack.push(p),
+                None => return Err(FieldError::new(at, "unexpected {")),
+            },
+            "}" => {
+                if stack.pop().is_none() {
+                    return Err(FieldError::new(at, "unmatched }"));
+                }
+            }
+            "OFFSET" => {
+                let (j, end) = match stack.last() {
+                    Some(Open::Joint(j)) => (*j, false),
+                    Some(Open::End(j)) => (*j, true),
+                    None => return Err(FieldError::new(at, "OFFSET outside a joint's braces")),
+                };
+                let field = format!(
+                    "{}.{}OFFSET",
+                    joints[j].name,
+                    if end { "End Site." } else { "" }
+                );
+                let mut v = DVec3::ZERO;
+                for k in 0..3 {
+                    v[k] = number(&field, tok.same_line())?;
+                }
+                if end {
+                    joints[j].end.get_or_insert(v);
+                } else {
+                    joints[j].offset = v;
+                }
+            }
+            "CHANNELS" => {
+                let Some(Open::Joint(j)) = stack.last().copied() else {
+                    return Err(FieldError::new(at, "CHANNELS outside a joint's braces"));
+                };
+                channels(tok, &mut joints[j], count)?;
+                count += joints[j].channels.len();
+            }
+            "MOTION" => {
+                if joints.is_empty() {
+                    return Err(FieldError::new(
+                        "ROOT",
+                        "missing: the HIERARCHY has no ROOT",
+                    ));
+                }
+                if !stack.is_empty() {
+                    return Err(FieldError::new(
+                        "HIERARCHY",
+                        format!(
+                            "{} braces left open before MOTION (a missing }})",
+                            stack.len()
+                        ),
+                    ));
+                }
+                break;
+            }
+            other => {
+                return Err(FieldError::new(
+                    at,
+                    format!("unexpected \"{}\" in the HIERARCHY", clip(other)),
+                ));
+            }
+        }
+    }
+    if count == 0 {
+        return Err(FieldError::new("HIERARCHY", "no joint has CHANNELS"));
+    }
+    Ok(Hierarchy {
+        joints,
+        channels: count,
+    })
+}
+
+impl Joint {
+    /// Whether the joint has an `End Site`.
+    pub(crate) fn has_end(&self) -> bool {
+        self.end.is_some()
+    }
+}
