@@ -51,7 +51,6 @@ pub struct Solution {
 /// Scratch space reused from step to step (no allocation in steady state).
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
-    hinv: Vec<f64>,
     /// The Cholesky factor `L` of `H`.
     l: Vec<f64>,
     /// `J = L⁻ᵀ Q`, row-major `n × n`.
@@ -68,61 +67,6 @@ pub struct Workspace {
     /// Per constraint: active, or a row that cannot be acted on (not a
     /// candidate either way).
     skip: Vec<bool>,
-}
-
-/// The inverse of the symmetric positive definite `h` (row-major `n × n`)
-/// into `out`, by Cholesky; `false` when `h` is not positive definite.
-fn spd_inverse(h: &[f64], n: usize, out: &mut Vec<f64>) -> bool {
-    // L Lᵀ = H, then solve for each column of the identity.
-    let mut l = vec![0.0; n * n];
-    for i in 0..n {
-        for j in 0..=i {
-            let mut s = h[i * n + j];
-            for k in 0..j {
-                s -= l[i * n + k] * l[j * n + k];
-            }
-            if i == j {
-                if !(s > 0.0 && s.is_finite()) {
-                    return false;
-                }
-                l[i * n + i] = s.sqrt();
-            } else {
-                l[i * n + j] = s / l[j * n + j];
-            }
-        }
-    }
-    out.clear();
-    out.resize(n * n, 0.0);
-    let mut y = vec![0.0; n];
-    for c in 0..n {
-        for i in 0..n {
-            let mut s = if i == c { 1.0 } else { 0.0 };
-            for k in 0..i {
-                s -= l[i * n + k] * y[k];
-            }
-            y[i] = s / l[i * n + i];
-        }
-        for i in (0..n).rev() {
-            let mut s = y[i];
-            for k in i + 1..n {
-                s -= l[k * n + i] * out[k * n + c];
-            }
-            out[i * n + c] = s / l[i * n + i];
-        }
-    }
-    true
-}
-
-/// The unconstrained optimum `H⁻¹ f` into `x`; `false` when `h` is not
-/// positive definite.
-pub fn unconstrained(h: &Mat, f: &[f64], ws: &mut Workspace, x: &mut Vec<f64>) -> bool {
-    let n = f.len();
-    if !spd_inverse(&h.data, n, &mut ws.hinv) {
-        return false;
-    }
-    x.clear();
-    x.extend((0..n).map(|i| (0..n).map(|k| ws.hinv[i * n + k] * f[k]).sum::<f64>()));
-    true
 }
 
 /// One constraint `nᵀx ≥ c` of the solver: index `k < m` is the row

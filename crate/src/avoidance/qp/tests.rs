@@ -8,11 +8,25 @@ fn mat(n: usize, v: &[f64]) -> Mat {
     m
 }
 
+/// `H⁻¹ = J Jᵀ` from the solver's factor (`None` when `h` is not positive
+/// definite).
+fn inverse(h: &[f64], n: usize) -> Option<Vec<f64>> {
+    let mut ws = Workspace::default();
+    factor(h, n, &mut ws).then(|| {
+        (0..n * n)
+            .map(|e| {
+                (0..n)
+                    .map(|k| ws.j[(e / n) * n + k] * ws.j[(e % n) * n + k])
+                    .sum()
+            })
+            .collect()
+    })
+}
+
 #[test]
-fn unconstrained_is_the_newton_step_and_inverse_is_exact() {
+fn unconstrained_is_the_newton_step_and_the_factor_is_exact() {
     let h = mat(3, &[4.0, 1.0, 0.5, 1.0, 3.0, 0.2, 0.5, 0.2, 2.0]);
-    let mut inv = Vec::new();
-    assert!(spd_inverse(&h.data, 3, &mut inv));
+    let inv = inverse(&h.data, 3).expect("positive definite");
     for i in 0..3 {
         for j in 0..3 {
             let e: f64 = (0..3).map(|k| h.data[i * 3 + k] * inv[k * 3 + j]).sum();
@@ -29,7 +43,7 @@ fn unconstrained_is_the_newton_step_and_inverse_is_exact() {
         assert!((a - b).abs() < 1e-12);
     }
     assert!(s.worst.is_none());
-    assert!(!spd_inverse(&[1.0, 2.0, 2.0, 1.0], 2, &mut inv));
+    assert!(inverse(&[1.0, 2.0, 2.0, 1.0], 2).is_none());
 }
 
 /// Against the closed form of one active row: `x = x* − H⁻¹a (aᵀx* − b)/(aᵀH⁻¹a)`.
@@ -51,8 +65,7 @@ fn one_active_row_matches_the_closed_form_in_the_h_metric() {
         &mut ws,
         &mut x,
     );
-    let mut inv = Vec::new();
-    spd_inverse(&h.data, 2, &mut inv);
+    let inv = inverse(&h.data, 2).expect("positive definite");
     let star = [inv[0] * 3.0 + inv[1], inv[2] * 3.0 + inv[3]];
     let u = [inv[0] + inv[1], inv[2] + inv[3]];
     let t = (star[0] + star[1] - b) / (u[0] + u[1]);
