@@ -18,7 +18,20 @@ before(async () => {
 });
 after(() => new Promise((resolve) => server.close(resolve)));
 
-const triangles = (page) => page.evaluate(() => window.playground.state().triangles);
+/**
+ * The triangles drawn once the view has settled: the same count over three
+ * frames running (a late layout change, such as the status line changing
+ * when the preset's meshes arrive, refits the camera).
+ */
+async function triangles(page) {
+  let last = -1;
+  for (;;) {
+    await frames(page, 3);
+    const now = await page.evaluate(() => window.playground.state().triangles);
+    if (now === last) return now;
+    last = now;
+  }
+}
 
 /** Eight wheel notches over the middle of the view (`dy` > 0 zooms out). */
 async function wheel(page, dy) {
@@ -37,7 +50,8 @@ test('solids are drawn at a level of detail that follows their size on screen (W
       const errors = collectErrors(page);
       await page.goto(`${baseUrl}?scenario=human-panda&paused&backend=${backend}`);
       await page.evaluate(() => window.playground.ready);
-      await frames(page, 3);
+      // The Panda's meshes are fetched lazily: wait for them (state, not time).
+      await page.waitForFunction(() => window.playground.app.presetMeshesShown === 'panda', null, { timeout: 60_000 });
       const framed = await triangles(page);
       await wheel(page, 400);
       const far = await triangles(page);
@@ -55,8 +69,9 @@ test('solids are drawn at a level of detail that follows their size on screen (W
   // The human figure, the arm's volumes, nodes and markers: a few dozen
   // solids at 140 to 540 triangles each. At the framed view, paused, this
   // was 10 726 when written with the rigid four-part human (about 16 000
-  // running), 22 758 with the articulated one (16 parts, a witness each):
-  // the budget leaves room for a few more markers.
+  // running), 22 758 with the articulated one (16 parts, a witness each),
+  // 24 858 once the Panda's meshes are shown (the solids seen through them
+  // drawn finer): the budget leaves room for a few more markers.
   assert.ok(framed > 2000 && framed <= 26000, `framed view: ${framed} triangles`);
   assert.ok(far < 0.6 * framed, `zoomed out: ${far} triangles, framed ${framed}`);
   assert.ok(near > framed, `zoomed in: ${near} triangles, framed ${framed}`);
