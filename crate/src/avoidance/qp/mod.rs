@@ -344,7 +344,7 @@ fn add(p: usize, ws: &mut Workspace, n: usize) {
         if b == 0.0 {
             continue;
         }
-        let h = a.hypot(b);
+        let h = (a * a + b * b).sqrt();
         let (c, s) = (a / h, b / h);
         ws.d[j - 1] = h;
         ws.d[j] = 0.0;
@@ -378,7 +378,7 @@ fn drop_active(k: usize, ws: &mut Workspace, n: usize) {
         if b == 0.0 {
             continue;
         }
-        let h = a.hypot(b);
+        let h = (a * a + b * b).sqrt();
         let (c, s) = (a / h, b / h);
         for col in j..q - 1 {
             let (top, bottom) = (ws.r[j * n + col], ws.r[(j + 1) * n + col]);
