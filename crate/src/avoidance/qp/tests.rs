@@ -1,5 +1,7 @@
 //! Tests of the QP solver: closed forms, KKT conditions checked
-//! independently of the solver, dependent and infeasible rows.
+//! independently of the solver, dependent and infeasible rows. Compiled
+//! only under `cfg(test)` (`#[cfg(test)] mod tests;` in `mod.rs`), so the
+//! `expect`s here stop a failing test and are unreachable from JavaScript.
 use super::*;
 
 fn mat(n: usize, v: &[f64]) -> Mat {
