@@ -21,7 +21,7 @@ export type JointInput = JointVector | NamedJoints;
 // ---- robots ----
 
 /** The library's presets (`presetNames()` lists the same). */
-export type PresetName = 'planar3' | 'lwr4' | 'panda' | 'ur5' | 'dual-arm' | 'stanford';
+export type PresetName = 'planar3' | 'lwr4' | 'iiwa14' | 'panda' | 'ur5' | 'dual-arm' | 'stanford';
 
 export interface Pose {
   /** Translation (m); default `[0, 0, 0]`. */

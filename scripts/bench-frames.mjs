@@ -92,7 +92,7 @@ async function measure(page, url, name, backend, files = null) {
       const app = window.playground.app;
       const robot = app.scenario.robot;
       const preset = typeof robot === 'string' ? robot : robot?.preset;
-      return !['panda', 'ur5'].includes(preset) || app.presetMeshesShown === preset;
+      return !['iiwa14', 'panda', 'ur5'].includes(preset) || app.presetMeshesShown === preset;
     }, null, { timeout: 60000 });
   }
   await page.waitForTimeout(1000);

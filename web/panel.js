@@ -14,7 +14,7 @@ import { buildDependability, refreshDependability } from './dependability.js';
  * The presets offered before the library is loaded; `fillPresets` replaces
  * them with the library's own list (`presetNames()`).
  */
-export const PRESETS = ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm'];
+export const PRESETS = ['planar3', 'lwr4', 'iiwa14', 'panda', 'ur5', 'dual-arm'];
 
 /** Offers the library's presets (`names`), then the DH table. */
 export function fillPresets(p, names) {

@@ -1,5 +1,5 @@
 // The presets drawn with their manufacturers' collision meshes: when the
-// robot shown is a preset that has them (Panda, UR5), its URDF and meshes are
+// robot shown is a preset that has them (iiwa 14, Panda, UR5), its URDF and meshes are
 // fetched once, lazily, from the folder the element's `preset-meshes`
 // attribute names (the playground page: `robots/`, the files of
 // crate/tests/data with their licences; `npm run build` copies them into
@@ -10,6 +10,12 @@
 
 /** Per preset: its URDF, the URDF's tip at the preset's last frame, the licences, the mesh files (paths under the folder). */
 export const PRESET_MESHES = {
+  iiwa14: {
+    urdf: 'urdf/iiwa14_mesh_collision.urdf',
+    tip: 'iiwa_link_7',
+    licences: ['meshes/iiwa14/LICENSE', 'urdf/iiwa_description.LICENSE', 'urdf/iiwa_stack.LICENSE'],
+    meshes: ['link_0', 'link_1', 'link_2', 'link_3', 'link_4', 'link_5', 'link_6', 'link_7'].map((p) => `meshes/iiwa14/collision/${p}.stl`),
+  },
   panda: {
     urdf: 'urdf/panda_mesh_collision.urdf',
     tip: 'panda_link8',

@@ -115,6 +115,60 @@ fn report(name: &str, spec: &RobotSpec, bodies: &[Body]) -> f64 {
     now.robot.vertex_coverage
 }
 
+/// Every vertex of every body inside the preset's own volumes, checked
+/// here without the fitting module: at random configurations, each body
+/// carried by its row's frame, each vertex must lie in the ball at the
+/// nearest point of some segment's spine (a ball the round cone holds).
+/// Returns the smallest margin found (m, ≥ 0).
+fn every_vertex_inside(spec: &RobotSpec, bodies: &[Body]) -> f64 {
+    use skeleton_avoidance::skeleton::Skeleton;
+    let robot = Robot::from_spec(spec).unwrap();
+    let zero = vec![0.0; robot.dof()];
+    let f0 = robot.forward(&zero).unwrap();
+    let mut rng = skeleton_avoidance::rng::Rng::new(19);
+    let mut worst = f64::INFINITY;
+    for trial in 0..4 {
+        let q: Vec<f64> = if trial == 0 {
+            zero.clone()
+        } else {
+            robot
+                .joints
+                .iter()
+                .map(|j| rng.range(j.min.max(-3.0), j.max.min(3.0)))
+                .collect()
+        };
+        let f = robot.forward(&q).unwrap();
+        let sk = Skeleton::build(&robot, &f);
+        for b in bodies {
+            let m = f.transforms[b.link] * f0.transforms[b.link].inverse();
+            for v in &b.mesh.vertices {
+                let p = m.transform_point3(*v);
+                let margin = sk
+                    .segments
+                    .iter()
+                    .map(|s| {
+                        let (a, e) = sk.endpoints(s);
+                        let ab = e - a;
+                        let t = if ab.length_squared() > 0.0 {
+                            ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        };
+                        Skeleton::radius_at(s, t) - (p - (a + ab * t)).length()
+                    })
+                    .fold(f64::NEG_INFINITY, f64::max);
+                assert!(
+                    margin >= 0.0,
+                    "{} at q {q:?}: a vertex {margin} m outside",
+                    b.name
+                );
+                worst = worst.min(margin);
+            }
+        }
+    }
+    worst
+}
+
 #[test]
 fn panda_preset_covers_its_collision_meshes() {
     let files = files! {
@@ -134,8 +188,9 @@ fn panda_preset_covers_its_collision_meshes() {
         &files,
         &spec,
     );
-    let c = report("panda", &spec, &bodies);
-    assert!(c > 0.0);
+    assert_eq!(report("panda", &spec, &bodies), 1.0);
+    let margin = every_vertex_inside(&spec, &bodies);
+    println!("panda: every vertex inside, the closest {margin:.2e} m from a surface");
 }
 
 #[test]
@@ -155,8 +210,33 @@ fn ur5_preset_covers_its_collision_meshes() {
         &files,
         &spec,
     );
-    let c = report("ur5", &spec, &bodies);
-    assert!(c > 0.0);
+    assert_eq!(report("ur5", &spec, &bodies), 1.0);
+    let margin = every_vertex_inside(&spec, &bodies);
+    println!("ur5: every vertex inside, the closest {margin:.2e} m from a surface");
+}
+
+#[test]
+fn iiwa14_preset_covers_its_collision_meshes() {
+    let files = files! {
+        "collision/link_0.stl" => "data/meshes/iiwa14/collision/link_0.stl",
+        "collision/link_1.stl" => "data/meshes/iiwa14/collision/link_1.stl",
+        "collision/link_2.stl" => "data/meshes/iiwa14/collision/link_2.stl",
+        "collision/link_3.stl" => "data/meshes/iiwa14/collision/link_3.stl",
+        "collision/link_4.stl" => "data/meshes/iiwa14/collision/link_4.stl",
+        "collision/link_5.stl" => "data/meshes/iiwa14/collision/link_5.stl",
+        "collision/link_6.stl" => "data/meshes/iiwa14/collision/link_6.stl",
+        "collision/link_7.stl" => "data/meshes/iiwa14/collision/link_7.stl",
+    };
+    let spec = preset("iiwa14").unwrap();
+    let bodies = bodies_in_preset(
+        include_str!("data/urdf/iiwa14_mesh_collision.urdf"),
+        "iiwa_link_7",
+        &files,
+        &spec,
+    );
+    assert_eq!(report("iiwa14", &spec, &bodies), 1.0);
+    let margin = every_vertex_inside(&spec, &bodies);
+    println!("iiwa14: every vertex inside, the closest {margin:.2e} m from a surface");
 }
 
 #[test]

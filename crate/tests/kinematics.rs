@@ -238,7 +238,7 @@ fn skeletons_of_every_preset() {
         ("planar3", 4, 3),
         ("lwr4", 5, 4),
         ("panda", 8, 7),
-        ("ur5", 7, 6),
+        ("ur5", 9, 8),
         ("dual-arm", 10, 9),
     ];
     let mut rng = Rng::new(5);

@@ -1,4 +1,4 @@
-// The presets drawn with their manufacturers' collision meshes (Panda, UR5;
+// The presets drawn with their manufacturers' collision meshes (iiwa 14, Panda, UR5;
 // files and licences in crate/tests/data, served at robots/): picking the
 // preset fetches them once and draws them on the preset's own skeleton
 // (pixels that go when the meshes are switched off), the meshes follow the
@@ -39,7 +39,7 @@ const toggles = (page, meshes, volumes) => page.evaluate(([m, v]) => {
 const meshesShown = (page, name) => page.waitForFunction((name) => window.playground.app.presetMeshesShown === name, name, { timeout: 60000 });
 
 for (const [backend, viewport] of [['webgpu', { width: 1280, height: 800 }], ['webgl2', { width: 390, height: 844 }]]) {
-  test(`the Panda and UR5 presets with their meshes (${backend}, ${viewport.width}×${viewport.height})`, async () => {
+  test(`the iiwa 14, Panda and UR5 presets with their meshes (${backend}, ${viewport.width}×${viewport.height})`, async () => {
     const browser = await launch({ webgpu: backend === 'webgpu', viewport });
     try {
       const page = await browser.context.newPage();
@@ -49,7 +49,7 @@ for (const [backend, viewport] of [['webgpu', { width: 1280, height: 800 }], ['w
       await page.goto(`${baseUrl}?scenario=lwr4-elbow&paused&backend=${backend}`);
       await page.evaluate(() => window.playground.ready);
       assert.deepEqual(fetched, [], 'nothing fetched for the LWR4');
-      for (const name of ['panda', 'ur5']) {
+      for (const name of ['iiwa14', 'panda', 'ur5']) {
         await page.evaluate((name) => window.playground.app.setPreset(name), name);
         await meshesShown(page, name);
         await toggles(page, true, false);
@@ -62,7 +62,7 @@ for (const [backend, viewport] of [['webgpu', { width: 1280, height: 800 }], ['w
         await shot(page, `preset-${name}-${backend}.png`);
       }
       const count = fetched.length;
-      assert.equal(count, 2 + 9 + 7, `the URDFs and meshes fetched once: ${fetched.join(' ')}`);
+      assert.equal(count, 3 + 8 + 9 + 7, `the URDFs and meshes fetched once: ${fetched.join(' ')}`);
       // The Panda again: from memory.
       await page.evaluate(() => window.playground.app.setPreset('panda'));
       await meshesShown(page, 'panda');

@@ -8,7 +8,7 @@ const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
 
 const close = (a, b, tol = 1e-12) => Math.abs(a - b) <= tol;
 
-const PRESETS = ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm', 'stanford'];
+const PRESETS = ['planar3', 'lwr4', 'iiwa14', 'panda', 'ur5', 'dual-arm', 'stanford'];
 const LIMITS = ['min', 'max', 'maxVelocity', 'maxAcceleration', 'maxJerk', 'maxTorque'];
 
 test('robotPreset returns a spec for every documented preset', () => {

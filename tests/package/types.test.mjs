@@ -134,7 +134,7 @@ const xml = ${JSON.stringify(URDF)};
 const robot = robotFromUrdf(xml, { tip: 'tool', base: undefined });
 const imported = importUrdf(xml, { radii: { upper: 0.05 } });
 const byName = forwardKinematics(robot, { shoulder: 0.1, elbow: -0.2 });
-const presets: PresetName[] = ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm', 'stanford'];
+const presets: PresetName[] = ['planar3', 'lwr4', 'iiwa14', 'panda', 'ur5', 'dual-arm', 'stanford'];
 const fk = forwardKinematics(robotPreset(presets[5]!), new Float64Array(6));
 const parts = skeleton('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8]).segments.map((s) => s.part.toUpperCase());
 const cp = controlPoint('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8], { link: 4, d: 0, a: 0.04 });
@@ -247,7 +247,7 @@ test('every field the runtime returns is declared, every required field is retur
   assert.deepEqual(r.joints, ['shoulder', 'elbow']);
   assert.deepEqual(r.radiusFrom, ['override', 'default']);
   assert.equal(r.byName, 3);
-  assert.deepEqual(r.presets, ['planar3', 'lwr4', 'panda', 'ur5', 'dual-arm', 'stanford']);
+  assert.deepEqual(r.presets, ['planar3', 'lwr4', 'iiwa14', 'panda', 'ur5', 'dual-arm', 'stanford']);
   assert.equal(r.examples, 7);
   assert.equal(r.fk, 7);
   assert.ok(r.parts.every((p) => ['D', 'A', 'EXTENSION'].includes(p)) && r.parts.length > 5);

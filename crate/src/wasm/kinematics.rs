@@ -39,8 +39,8 @@ fn frames_of(
     robot.forward(&q).map_err(|e| js_error(&e))
 }
 
-/// The robot spec of a preset: `"planar3"`, `"lwr4"`, `"panda"`, `"ur5"`,
-/// `"dual-arm"`.
+/// The robot spec of a preset: `"planar3"`, `"lwr4"`, `"iiwa14"`, `"panda"`,
+/// `"ur5"`, `"dual-arm"`, `"stanford"`.
 #[wasm_bindgen(js_name = robotPreset)]
 pub fn robot_preset(name: JsValue) -> Result<JsValue, JsError> {
     let name = string_arg("name", &name)?;
