@@ -83,8 +83,17 @@ fn sphere_driven_at_the_lwr4_elbow_keeps_clearance_and_the_goal() {
     let q0 = s.q0.clone().unwrap();
     let moved: f64 = q_last.iter().zip(&q0).map(|(a, b)| (a - b).abs()).sum();
     assert!(moved > 0.1, "the elbow must have moved away");
+    // While the elbow gives way the joints' speeds are capped so that the
+    // arm could still stop before the sphere, which closes in at 0.25 m/s
+    // (`World::stop_time`): the end effector yields up to 14 mm, and is
+    // back on its goal once the sphere has stopped.
     let err = ee_error(&s, &trace, elbow_goal());
-    assert!(err < EE_TOLERANCE, "end effector left its goal by {err} m");
+    assert!(err < 0.015, "end effector left its goal by {err} m");
+    let last = trace.samples.last().unwrap();
+    let robot = s.build_robot().unwrap();
+    let end = robot.forward(&last.q).unwrap().end_effector().translation;
+    let settled = (end - elbow_goal()).length();
+    assert!(settled < 1e-3, "end effector {settled} m from its goal at the end");
 }
 
 #[test]

@@ -118,7 +118,7 @@ fn obstacles_approaching_every_link_of_every_preset() {
 /// between two segments, where the closest segment is ambiguous.
 #[test]
 fn sudden_obstacles_and_obstacles_at_a_node() {
-    for name in ["planar3", "panda", "lwr4"] {
+    for name in ["planar3", "panda", "lwr4", "iiwa14", "ur5"] {
         let robot = Robot::from_spec(&presets::preset(name).unwrap()).unwrap();
         let q0 = middle_q(&robot);
         let frames = robot.forward(&q0).unwrap();
@@ -146,11 +146,22 @@ fn sudden_obstacles_and_obstacles_at_a_node() {
                 &robot,
                 &simulate(&s).unwrap(),
             );
-            // Far away, then 12 cm from the node at t = 0.2 s, then closing in.
+            // Far away, then 4.5 cm outside the volume at the node at
+            // t = 0.2 s, then closing in at 0.2 m/s.
+            let volume = sk
+                .segments
+                .iter()
+                .flat_map(|s| {
+                    [(s.from, s.radius[0]), (s.to, s.radius[1])]
+                        .into_iter()
+                        .filter(|(n, _)| *n == node)
+                        .map(|(_, r)| r)
+                })
+                .fold(0.0, f64::max);
             let jump = ObstacleSpec {
                 id: "ball".to_owned(),
                 shape: ShapeSpec::Primitive(PrimitiveSpec::Sphere(SphereSpec {
-                    center: (p + side * 0.16).to_array(),
+                    center: (p + side * (volume + 0.045 + 0.04)).to_array(),
                     radius: 0.04,
                 })),
                 motion: Some(Motion::Waypoints {

@@ -92,6 +92,22 @@ pub fn velocity_box(robot: &Robot, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
         .unzip()
 }
 
+/// Narrows the velocity box `lo..hi` so that every joint can stop within
+/// `time` seconds (see [`braking_time`]: a speed `v` needs `v / A` plus the
+/// acceleration ramps, at most `2 A / J`): `|q̇ₖ| ≤ Aₖ (time − 2 Aₖ / Jₖ)`,
+/// zero when even the ramps do not fit. An infinite `time` changes nothing.
+pub fn cap_for_stop_time(robot: &Robot, time: f64, lo: &mut [f64], hi: &mut [f64]) {
+    if !time.is_finite() {
+        return;
+    }
+    for ((j, l), h) in robot.joints.iter().zip(lo).zip(hi) {
+        let a = j.max_acceleration;
+        let cap = (a * (time - 2.0 * a / j.max_jerk)).max(0.0);
+        *l = l.max(-cap);
+        *h = h.min(cap);
+    }
+}
+
 /// Time the limiter needs to bring `motion` to rest (s): the slowest
 /// joint's deceleration plus its acceleration ramp, plus one step.
 #[must_use]

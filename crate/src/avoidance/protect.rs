@@ -38,6 +38,17 @@
 //! guard is violated, and the world stops the arm ([`super`]'s
 //! `unavoidable` event).
 //!
+//! The guards bound the arm's *approach*; its *speed* is bounded too, so
+//! that a stop decided at any moment still ends before an obstacle closing
+//! in at `v_h` arrives: every joint's speed is capped to what it can shed
+//! within `(d − d_s) / v_h − T_r` ([`super::limits::cap_for_stop_time`],
+//! the world's `stop_time`), whatever the arm is doing. An escape from an
+//! obstacle that appeared next to the arm therefore never outruns its own
+//! stop: without the cap, the Panda escaping a ball that appeared 4.5 cm
+//! from its elbow reached 1.66 rad/s, ran out of room, and was still
+//! braking when the ball arrived; with it the arm slows as the ball comes
+//! and is at rest 13 mm before contact.
+//!
 //! The guards bound the *requested* velocity; the joints reach it within
 //! their acceleration limits. Should the arm's actual approach speed still
 //! exceed a guard ([`Guard::breached`]), the world brakes at once with every

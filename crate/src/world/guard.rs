@@ -15,7 +15,7 @@ use std::collections::BTreeSet;
 
 use super::{StopReason, World};
 use crate::avoidance::constraints::INFEASIBLE_TOLERANCE;
-use crate::avoidance::limits::{braking_time, velocity_box};
+use crate::avoidance::limits::{braking_time, cap_for_stop_time, velocity_box};
 use crate::avoidance::protect::{self, Damper, GuardPair};
 use crate::avoidance::selection::fraction_on;
 use crate::avoidance::{Avoidance, ControllerConfig, Mode};
@@ -172,12 +172,14 @@ impl World {
         dt: f64,
     ) -> Result<(), FieldError> {
         self.doomed = None;
+        self.stop_time = f64::INFINITY;
         let p = cfg.protective;
         if !p.enabled {
             self.guards.clear();
             return Ok(());
         }
         self.guard_pairs(cfg, pairs);
+        self.stop_time = self.stop_time(cfg, dt);
         let braking = braking_time(&self.robot, &self.motion, dt);
         let floor = if self.stopped { 0.0 } else { f64::NEG_INFINITY };
         let damper = Self::uses_constraints(cfg).then_some(Damper {
@@ -197,7 +199,7 @@ impl World {
             damper.as_ref(),
             &mut guards,
         )?;
-        let (lo, hi) = velocity_box(&self.robot, &self.q);
+        let (lo, hi) = self.admissible_box();
         for (k, g) in guards.iter_mut().enumerate() {
             // Time to collision shorter than a transition plus braking: the
             // approach to that obstacle is slowed (retreat is left free).
@@ -223,6 +225,38 @@ impl World {
         Ok(())
     }
 
+    /// The time within which the joints must be able to stop: for every
+    /// obstacle closing in at `v_h` with room `d − d_s` above the safety
+    /// distance, `(d − d_s) / v_h − T_r − dt`, the smallest of them (`∞`
+    /// when nothing closes in or during a stop).
+    ///
+    /// The guards bound the arm's approach; this bounds its speed, so that
+    /// whatever the arm is doing — escaping an obstacle that appeared next
+    /// to it included — stopping still ends before the obstacle closes the
+    /// gap. Without it an escape at full speed that later ran out of room
+    /// (a joint limit, the row turning) ended in a stop that was still
+    /// braking when the obstacle arrived: contact while moving.
+    fn stop_time(&self, cfg: &ControllerConfig, dt: f64) -> f64 {
+        if self.stopped {
+            return f64::INFINITY;
+        }
+        let p = cfg.protective;
+        self.guard_pairs
+            .iter()
+            .filter(|g| g.obstacle.is_some() && g.obstacle_speed > 0.0)
+            .map(|g| (g.distance - p.safety_distance) / g.obstacle_speed - p.reaction_time - dt)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The admissible velocity box now: the joints' speed limits, the
+    /// braking caps of their position limits, and the stop time of the
+    /// obstacles closing in ([`Self::stop_time`]).
+    pub(super) fn admissible_box(&self) -> (Vec<f64>, Vec<f64>) {
+        let (mut lo, mut hi) = velocity_box(&self.robot, &self.q);
+        cap_for_stop_time(&self.robot, self.stop_time, &mut lo, &mut hi);
+        (lo, hi)
+    }
+
     /// Stage 7: the protective layer. Projects the request onto the guards
     /// and the admissible velocity box; when no admissible motion keeps a
     /// pair safe the arm stops (`unavoidable`). Returns whether every guard
@@ -245,7 +279,7 @@ impl World {
         let all_hold = self.guard_pairs.iter().all(|g| {
             g.obstacle_speed <= 0.0 || p.bound(g.distance, g.obstacle_speed, braking) >= 0.0
         });
-        let (lo, hi) = velocity_box(&self.robot, &self.q);
+        let (lo, hi) = self.admissible_box();
         let weights = cfg.joint_weights.as_deref().unwrap_or(&[]);
         let mut out = Vec::with_capacity(self.request.len());
         let result = protect::project(&self.request, weights, &lo, &hi, &guards, &mut out);

@@ -111,6 +111,9 @@ pub struct World {
     /// This step's first guard with no admissible escape, and by how much
     /// the arm's approach exceeds its bound.
     doomed: Option<(usize, f64)>,
+    /// Time within which the joints must be able to stop this step (s; `∞`
+    /// with no obstacle closing in): see [`guard`]'s `stop_time`.
+    stop_time: f64,
     /// Whether the `constraints` avoidance dropped its dampers this step.
     relaxed: bool,
     qp: crate::avoidance::qp::Workspace,
@@ -215,6 +218,7 @@ impl World {
             guard_pairs: Vec::new(),
             request: Vec::new(),
             doomed: None,
+            stop_time: f64::INFINITY,
             relaxed: false,
             qp: crate::avoidance::qp::Workspace::default(),
             command_monitor: monitor::CommandMonitor::default(),

@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use super::{MAX_EVENTS, StopReason, World};
 use crate::avoidance::constraints::constrained_velocity;
-use crate::avoidance::limits::{self, braking_time, velocity_box};
+use crate::avoidance::limits::{self, braking_time};
 use crate::avoidance::selection::{self, Key, fraction_on};
 use crate::avoidance::{self, ActivePoint, ControllerConfig, Mode};
 use crate::control_point::DhPoint;
@@ -347,7 +347,7 @@ impl World {
         );
         self.references = refs;
         if Self::uses_constraints(cfg) {
-            let (lo, hi) = velocity_box(&self.robot, &self.q);
+            let (lo, hi) = self.admissible_box();
             let mut out = std::mem::take(&mut self.request);
             let outcome = constrained_velocity(
                 &self.robot,
