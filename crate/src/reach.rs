@@ -15,7 +15,8 @@
 //! * **Seeded random Panda problems** ([`panda_problems`]): from a random
 //!   configuration to the pose of another one nearby, with one to three
 //!   spheres and boxes placed near the straight path of the end effector,
-//!   static or moving at 0.1–0.5 m/s.
+//!   static or moving at 0.1–0.5 m/s; both configurations clear of the
+//!   obstacles and of the arm's own links.
 //!
 //! A problem **succeeds** when the end effector comes within 1 cm and 2° of
 //! the goal within [`TIME_LIMIT`], no contact begins while the arm moves,
@@ -277,9 +278,15 @@ pub fn panda_problems(seed: u64, count: usize) -> Result<Vec<Problem>, FieldErro
             b,
             orientation,
         )?;
-        // Both ends must be clear of every obstacle by more than the safety
-        // band, or the problem has no solution.
-        if !clear(&scenario, &start)? || !clear(&scenario, &goal_q)? {
+        // Both ends must be clear of every obstacle, and of the arm's own
+        // links, by more than the safety band, or the problem has no
+        // solution (with the Panda's fitted volumes a folded random pose
+        // can overlap its own wrist and upper arm).
+        if !clear(&scenario, &start)?
+            || !clear(&scenario, &goal_q)?
+            || !self_clear(&scenario, &start)?
+            || !self_clear(&scenario, &goal_q)?
+        {
             continue;
         }
         out.push(Problem {
@@ -341,6 +348,16 @@ fn clear(scenario: &Scenario, q: &[f64]) -> Result<bool, FieldError> {
         }
     }
     Ok(true)
+}
+
+/// Whether the arm's non-adjacent links at `q` are further apart than the
+/// scenario's safety band.
+fn self_clear(scenario: &Scenario, q: &[f64]) -> Result<bool, FieldError> {
+    let mut s = scenario.clone();
+    s.obstacles.clear();
+    let band = s.controller.safety_band;
+    let c = clearance_at(&s, q)?;
+    Ok(c > band)
 }
 
 /// Smallest clearance of the arm at `q` among `scenario`'s obstacles at

@@ -93,7 +93,10 @@ fn sphere_driven_at_the_lwr4_elbow_keeps_clearance_and_the_goal() {
     let robot = s.build_robot().unwrap();
     let end = robot.forward(&last.q).unwrap().end_effector().translation;
     let settled = (end - elbow_goal()).length();
-    assert!(settled < 1e-3, "end effector {settled} m from its goal at the end");
+    assert!(
+        settled < 1e-3,
+        "end effector {settled} m from its goal at the end"
+    );
 }
 
 #[test]
