@@ -6,7 +6,7 @@ use std::borrow::Cow;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::geometry::{LineInstance, LineVertex, MeshVertex, SolidInstance, SolidVertex};
+use super::geometry::{LineInstance, LineVertex, MeshVertex, ShadedVertex};
 use super::gpu::DEPTH_FORMAT;
 
 /// Uniforms shared by every pipeline (layout mirrors `Globals` in the shader).
@@ -109,15 +109,10 @@ struct Builder<'a> {
 
 impl Builder<'_> {
     fn solid(&self, blend: bool) -> wgpu::RenderPipeline {
-        let template = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<SolidVertex>() as u64,
+        let vertex = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<ShadedVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32],
-        };
-        let instance = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<SolidInstance>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &wgpu::vertex_attr_array![2 => Float32x4, 3 => Float32x4, 4 => Float32x4],
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4],
         };
         self.build(
             if blend {
@@ -126,7 +121,7 @@ impl Builder<'_> {
                 "opaque solids"
             },
             ("vs_solid", "fs_solid"),
-            &[Some(template), Some(instance)],
+            &[Some(vertex)],
             Some(wgpu::Face::Back),
             !blend,
             blend,

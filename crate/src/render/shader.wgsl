@@ -3,14 +3,16 @@
 // Colours arrive sRGB-encoded (as in CSS) and are decoded per vertex.
 // Lighting is computed in linear space; the result is encoded back to sRGB here when the surface format is
 // not an sRGB one (`globals.viewport.z == 1`), so the pixels are the same on
-// WebGPU and WebGL2 whichever format the surface ends up with.
+// WebGPU and WebGL2 whichever format the surface ends up with. Capsules and
+// spheres arrive lit and encoded already, by the same formulas on the CPU
+// (render/solids.rs).
 //
 // Everything is lit and encoded per vertex and the fragment shaders only
 // pass the colour on: a software rasteriser (SwiftShader) spends most of a
 // frame shading the fragments of large translucent volumes, and three `pow`
 // per fragment were most of that. Flat triangles, lines and the grid have
 // one colour per primitive, so nothing changes for them; the capsule
-// template is fine enough (18 sectors, 7 rings per cap) that lighting its
+// template (lit per vertex on the CPU) is fine enough (18 sectors, 7 rings per cap) that lighting its
 // vertices reads the same as lighting its pixels.
 
 struct Globals {
@@ -44,7 +46,7 @@ fn encode(linear: vec3<f32>) -> vec3<f32> {
     return linear;
 }
 
-// ---- Solids: tapered capsules (spheres are capsules of zero length) ----
+// ---- Solids: tapered capsules and spheres, lit on the CPU ----
 
 struct SolidOut {
     @builtin(position) clip: vec4<f32>,
@@ -53,42 +55,10 @@ struct SolidOut {
 };
 
 @vertex
-fn vs_solid(
-    // Template: unit direction in the capsule's frame (z along the axis) and
-    // which end (0 or 1) the vertex belongs to.
-    @location(0) dir: vec3<f32>,
-    @location(1) side: f32,
-    // Instance: end points, radii and colour.
-    @location(2) p0_r0: vec4<f32>,
-    @location(3) p1_r1: vec4<f32>,
-    @location(4) color: vec4<f32>,
-) -> SolidOut {
-    let axis_raw = p1_r1.xyz - p0_r0.xyz;
-    let len = length(axis_raw);
-    var axis = vec3<f32>(0.0, 0.0, 1.0);
-    if len > 1e-6 {
-        axis = axis_raw / len;
-    }
-    // Any unit vector not parallel to the axis gives an orthonormal frame.
-    var helper = vec3<f32>(1.0, 0.0, 0.0);
-    if abs(axis.x) > 0.9 {
-        helper = vec3<f32>(0.0, 1.0, 0.0);
-    }
-    let u = normalize(cross(helper, axis));
-    let v = cross(axis, u);
-    let n = u * dir.x + v * dir.y + axis * dir.z;
-    var centre = p0_r0.xyz;
-    var radius = p0_r0.w;
-    if side > 0.5 {
-        centre = p1_r1.xyz;
-        radius = p1_r1.w;
-    }
-    let key = max(dot(n, globals.key_light.xyz), 0.0);
-    let head = max(dot(n, globals.to_camera.xyz), 0.0);
-    let light = 0.28 + 0.47 * key + 0.35 * head;
+fn vs_solid(@location(0) position: vec3<f32>, @location(1) color: vec4<f32>) -> SolidOut {
     var out: SolidOut;
-    out.clip = globals.view_proj * vec4<f32>(centre + radius * n, 1.0);
-    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb) * light), color.a);
+    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
+    out.color = color;
     return out;
 }
 
