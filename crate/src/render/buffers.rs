@@ -4,11 +4,11 @@
 //! ones sorted back to front.
 
 use glam::Vec3;
-use wgpu::util::DeviceExt;
 
-use super::geometry::{self, LineInstance, MeshVertex, SolidInstance, Template};
+use super::flat;
+use super::geometry::{self, ClipVertex, ShadedVertex, SolidInstance, Template};
 use super::solids::{Shading, Solids, Viewpoint};
-use crate::view::{Camera, Grid, Scene, Triangle, View};
+use crate::view::{Camera, Scene, View};
 
 /// A GPU buffer of vertices, instances or indices that grows (by doubling)
 /// when a frame needs more.
@@ -76,9 +76,11 @@ pub(super) struct Counts {
     pub solid_opaque: u32,
     /// Indices of every solid's triangles, opaque and translucent.
     pub solids: u32,
+    /// Vertices of the opaque lines' quads (six a line).
     pub line_opaque: u32,
-    /// Every line, opaque and translucent.
+    /// Vertices of every line's quad, opaque and translucent.
     pub lines: u32,
+    /// Vertices of the grid's hairlines (two a line).
     pub hair: u32,
     /// Vertices of opaque triangles.
     pub mesh_opaque: u32,
@@ -143,7 +145,9 @@ pub(super) struct Buffers {
     templates: [Template; 3],
     /// This frame's solids, reused from frame to frame.
     tessellated: Solids,
-    pub line_template: wgpu::Buffer,
+    /// This frame's other vertices, reused from frame to frame.
+    clip_vertices: Vec<ClipVertex>,
+    shaded_vertices: Vec<ShadedVertex>,
     /// The solids' lit vertices and their triangles.
     pub solid_vertices: InstanceBuffer,
     pub solid_indices: InstanceBuffer,
@@ -156,29 +160,22 @@ pub(super) struct Buffers {
 impl Buffers {
     /// The templates, and empty buffers.
     pub fn new(device: &wgpu::Device) -> Self {
-        let line_template = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("line template"),
-            contents: bytemuck::cast_slice(&geometry::line_template()),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
         let instances = |label, stride| InstanceBuffer::new(device, label, stride);
         Self {
             templates: geometry::capsule_templates(),
             tessellated: Solids::default(),
-            line_template,
-            solid_vertices: instances(
-                "solid vertices",
-                std::mem::size_of::<geometry::ShadedVertex>(),
-            ),
+            clip_vertices: Vec::new(),
+            shaded_vertices: Vec::new(),
+            solid_vertices: instances("solid vertices", std::mem::size_of::<ShadedVertex>()),
             solid_indices: InstanceBuffer::with_usage(
                 device,
                 "solid indices",
                 4,
                 wgpu::BufferUsages::INDEX,
             ),
-            lines: instances("line instances", std::mem::size_of::<LineInstance>()),
-            mesh: instances("mesh vertices", std::mem::size_of::<MeshVertex>()),
-            hair: instances("hairline vertices", std::mem::size_of::<MeshVertex>()),
+            lines: instances("line vertices", std::mem::size_of::<ClipVertex>()),
+            mesh: instances("mesh vertices", std::mem::size_of::<ShadedVertex>()),
+            hair: instances("hairline vertices", std::mem::size_of::<ShadedVertex>()),
             counts: Counts::default(),
         }
     }
@@ -202,18 +199,29 @@ impl Buffers {
             .upload(device, queue, bytemuck::cast_slice(&solids.indices));
         // The grid is drawn as one-pixel hairlines: rasterised far faster
         // than long thin quads, notably by software rasterisers.
-        let mut hair: Vec<MeshVertex> = Vec::new();
+        let vertices = &mut self.shaded_vertices;
+        vertices.clear();
         if let Some(grid) = scene.grid {
-            push_grid(&mut hair, &grid);
+            flat::push_grid(vertices, &grid, shading);
         }
-        self.counts.hair = hair.len() as u32;
-        self.hair.upload(device, queue, bytemuck::cast_slice(&hair));
-        let lines = line_instances(scene, &mut self.counts);
+        self.counts.hair = vertices.len() as u32;
+        self.hair
+            .upload(device, queue, bytemuck::cast_slice(vertices));
+        let quads = &mut self.clip_vertices;
+        self.counts.line_opaque = 6 * flat::line_quads(&scene.lines, shading, quads);
+        self.counts.lines = quads.len() as u32;
         self.lines
-            .upload(device, queue, bytemuck::cast_slice(&lines));
-        let vertices = mesh_vertices(scene, lens.eye, &mut self.counts);
+            .upload(device, queue, bytemuck::cast_slice(quads));
+        let opaque = flat::triangle_vertices(
+            (&scene.triangles, &scene.closed),
+            (lens.eye, lens.viewpoint),
+            shading,
+            vertices,
+        );
+        self.counts.mesh_opaque = opaque;
+        self.counts.mesh_blend = vertices.len() as u32 - opaque;
         self.mesh
-            .upload(device, queue, bytemuck::cast_slice(&vertices));
+            .upload(device, queue, bytemuck::cast_slice(vertices));
     }
 }
 
@@ -260,80 +268,5 @@ fn tessellate(
     out.opaque_indices = out.indices.len() as u32;
     for s in &blend {
         out.push(s, &templates[lens.level(s)], shading, lens.viewpoint);
-    }
-}
-
-/// Lines as instances, opaque ones first (drawn without blending).
-fn line_instances(scene: &Scene, counts: &mut Counts) -> Vec<LineInstance> {
-    let all = scene
-        .lines
-        .iter()
-        .map(|l| LineInstance {
-            p0_width: [l.a[0], l.a[1], l.a[2], l.width.max(0.0)],
-            p1: [l.b[0], l.b[1], l.b[2], 0.0],
-            color: l.color,
-        })
-        .filter(|l| finite(&[l.p0_width, l.p1, l.color]));
-    let (mut lines, blended): (Vec<_>, Vec<_>) = all.partition(|l| l.color[3] >= 1.0);
-    counts.line_opaque = lines.len() as u32;
-    lines.extend(blended);
-    counts.lines = lines.len() as u32;
-    lines
-}
-
-/// Triangles as vertices with their face normal, opaque first, then
-/// translucent ones back to front by centroid.
-fn mesh_vertices(scene: &Scene, eye: Vec3, counts: &mut Counts) -> Vec<MeshVertex> {
-    let finite_triangle =
-        |t: &&Triangle| t.p.iter().flatten().chain(&t.color).all(|x| x.is_finite());
-    let (opaque, mut blend): (Vec<&Triangle>, Vec<&Triangle>) = scene
-        .triangles
-        .iter()
-        .filter(finite_triangle)
-        .partition(|t| t.color[3] >= 1.0);
-    let centroid =
-        |t: &Triangle| (Vec3::from(t.p[0]) + Vec3::from(t.p[1]) + Vec3::from(t.p[2])) / 3.0;
-    blend.sort_by(|x, y| {
-        centroid(y)
-            .distance_squared(eye)
-            .total_cmp(&centroid(x).distance_squared(eye))
-    });
-    counts.mesh_opaque = 3 * opaque.len() as u32;
-    counts.mesh_blend = 3 * blend.len() as u32;
-    let mut vertices: Vec<MeshVertex> = Vec::with_capacity(3 * scene.triangles.len());
-    for t in opaque.into_iter().chain(blend) {
-        let [a, b, c] = t.p.map(Vec3::from);
-        let normal = (b - a).cross(c - a).normalize_or(Vec3::Z).to_array();
-        vertices.extend(t.p.iter().map(|&position| MeshVertex {
-            position,
-            normal,
-            color: t.color,
-        }));
-    }
-    vertices
-}
-
-/// Adds the lines of `grid` (the two through the origin in the axis colour).
-fn push_grid(lines: &mut Vec<MeshVertex>, grid: &Grid) {
-    if !(grid.spacing.is_finite() && grid.half_extent.is_finite())
-        || grid.spacing <= 0.0
-        || grid.half_extent <= 0.0
-    {
-        return;
-    }
-    let h = grid.half_extent;
-    let n = ((h / grid.spacing).floor() as i32).min(500);
-    for i in -n..=n {
-        let t = i as f32 * grid.spacing;
-        let color = if i == 0 { grid.axis_color } else { grid.color };
-        for (a, b) in [([t, -h, 0.0], [t, h, 0.0]), ([-h, t, 0.0], [h, t, 0.0])] {
-            for position in [a, b] {
-                lines.push(MeshVertex {
-                    position,
-                    normal: [0.0, 0.0, 1.0],
-                    color,
-                });
-            }
-        }
     }
 }

@@ -1,6 +1,5 @@
-//! Vertex layouts and template meshes: the capsule template at three levels
-//! of detail (placed on the CPU for every capsule and sphere), the line quad
-//! (instanced for every line).
+//! Vertex layouts and the capsule template at three levels of detail
+//! (placed on the CPU for every capsule and sphere).
 
 use bytemuck::{Pod, Zeroable};
 
@@ -13,11 +12,12 @@ pub(crate) struct SolidVertex {
     pub side: f32,
 }
 
-/// A corner of the line quad: which end (0, 1) and which side (-1, 1).
+/// A vertex already in clip space, lit and encoded (the lines' quads).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct LineVertex {
-    pub corner: [f32; 2],
+pub(crate) struct ClipVertex {
+    pub clip: [f32; 4],
+    pub color: [f32; 4],
 }
 
 /// A capsule or sphere: end points, radii and colour.
@@ -25,24 +25,6 @@ pub(crate) struct LineVertex {
 pub(crate) struct SolidInstance {
     pub p0_r0: [f32; 4],
     pub p1_r1: [f32; 4],
-    pub color: [f32; 4],
-}
-
-/// Per-instance data of a line.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct LineInstance {
-    pub p0_width: [f32; 4],
-    pub p1: [f32; 4],
-    pub color: [f32; 4],
-}
-
-/// A vertex of a flat-shaded triangle.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct MeshVertex {
-    pub position: [f32; 3],
-    pub normal: [f32; 3],
     pub color: [f32; 4],
 }
 
@@ -165,17 +147,4 @@ fn capsule_template(rings: u32, sectors: u32) -> Template {
         vertices,
         triangles,
     }
-}
-
-/// The line quad as two triangles.
-pub(crate) fn line_template() -> [LineVertex; 6] {
-    let v = |t: f32, s: f32| LineVertex { corner: [t, s] };
-    [
-        v(0.0, -1.0),
-        v(1.0, -1.0),
-        v(1.0, 1.0),
-        v(0.0, -1.0),
-        v(1.0, 1.0),
-        v(0.0, 1.0),
-    ]
 }

@@ -14,13 +14,14 @@
 //! | `pipelines.rs` | the uniforms, their bind group, one pipeline per primitive and blending |
 //! | `buffers.rs` | the per-frame vertex, index and instance buffers (opaque first, translucent back to front), the solids' level of detail |
 //! | `solids.rs` | capsules and spheres placed, lit and back-face culled on the CPU, drawn as one list of triangles |
-//! | `geometry.rs` | the vertex layouts, the capsule template at three levels of detail, the line template |
+//! | `flat.rs` | lines (as quads in clip space), flat triangles and the grid, lit on the CPU |
+//! | `geometry.rs` | the vertex layouts, the capsule template at three levels of detail |
 //! | `shader.wgsl` | the shaders |
 //!
 //! Colours are sRGB-encoded in the scene; the renderer picks a non-sRGB
-//! surface format when one is offered and encodes in the shader, or lets the
-//! hardware encode into an sRGB format, so a colour reads the same on both
-//! backends.
+//! surface format when one is offered and encodes on the CPU as it lights
+//! each vertex, or lets the hardware encode into an sRGB format, so a colour
+//! reads the same on both backends. The shaders only place the vertices.
 //!
 //! Draw order: opaque solids and opaque triangles (depth written), lines
 //! (depth tested, not written), then translucent triangles and translucent
@@ -35,6 +36,7 @@
 //! reach it as two indexed draws of front faces, not one instance each.
 
 mod buffers;
+mod flat;
 mod geometry;
 mod gpu;
 mod pipelines;
@@ -210,7 +212,7 @@ impl Renderer {
     #[must_use]
     pub fn triangles(&self) -> u64 {
         let n = self.buffers.counts;
-        u64::from(n.solids + n.mesh_opaque + n.mesh_blend) / 3 + 2 * u64::from(n.lines)
+        u64::from(n.solids + n.mesh_opaque + n.mesh_blend + n.lines) / 3
     }
 
     /// Drawing-buffer size in pixels.
@@ -257,6 +259,8 @@ impl Renderer {
             to_camera: back,
             key_light: key,
             encode,
+            view_proj: camera.view_proj(width / height),
+            half_px: 0.5 * glam::Vec2::new(width, height),
         };
         self.buffers.upload(
             (&self.gpu.device, &self.gpu.queue),
@@ -372,21 +376,12 @@ impl Renderer {
             pass.set_vertex_buffer(0, buffer.slice(..));
             pass.draw(range, 0..1);
         };
-        let lines = |pass: &mut wgpu::RenderPass<'_>, pipeline, range: std::ops::Range<u32>| {
-            if range.is_empty() {
-                return;
-            }
-            pass.set_pipeline(pipeline);
-            pass.set_vertex_buffer(0, b.line_template.slice(..));
-            pass.set_vertex_buffer(1, b.lines.buffer.slice(..));
-            pass.draw(0..6, range);
-        };
         let all_mesh = n.mesh_opaque + n.mesh_blend;
         solids(pass, &p.solid_opaque, 0..n.solid_opaque);
         vertices(pass, &p.mesh_opaque, &b.mesh.buffer, 0..n.mesh_opaque);
         vertices(pass, &p.hair, &b.hair.buffer, 0..n.hair);
-        lines(pass, &p.line_opaque, 0..n.line_opaque);
-        lines(pass, &p.line_blend, n.line_opaque..n.lines);
+        vertices(pass, &p.line_opaque, &b.lines.buffer, 0..n.line_opaque);
+        vertices(pass, &p.line_blend, &b.lines.buffer, n.line_opaque..n.lines);
         vertices(pass, &p.mesh_blend, &b.mesh.buffer, n.mesh_opaque..all_mesh);
         solids(pass, &p.solid_blend, n.solid_opaque..n.solids);
     }

@@ -14,7 +14,7 @@
 //! of the `human-panda` example from about 34 to 25 ms, its triangles from
 //! 31 500 to 14 600, with the same pixels.
 
-use glam::Vec3;
+use glam::{Mat4, Vec2, Vec3};
 
 use super::geometry::{ShadedVertex, SolidInstance, Template};
 
@@ -28,6 +28,10 @@ pub(super) struct Shading {
     /// Whether colours are encoded to sRGB here (the surface format is not
     /// an sRGB one) or left linear (the hardware encodes).
     pub encode: bool,
+    /// World to clip space.
+    pub view_proj: Mat4,
+    /// Half the drawing buffer's size (pixels).
+    pub half_px: Vec2,
 }
 
 /// Where the triangles are seen from, for culling the back faces.
@@ -37,6 +41,20 @@ pub(super) enum Viewpoint {
     Eye(Vec3),
     /// Orthographic: the direction the camera looks along.
     Along(Vec3),
+}
+
+impl Viewpoint {
+    /// Whether the triangle `[p, q, r]` (counter-clockwise seen from its
+    /// front) shows its back, with a margin: a triangle seen edge on is
+    /// kept, and the pipeline's own culling decides.
+    pub fn faces_away(self, [p, q, r]: [Vec3; 3]) -> bool {
+        let normal = (q - p).cross(r - p);
+        let view = match self {
+            Viewpoint::Eye(eye) => p - eye,
+            Viewpoint::Along(direction) => direction,
+        };
+        normal.dot(view) > 1e-3 * normal.length() * view.length()
+    }
 }
 
 /// The solids of a frame as lit vertices and triangles (indices into them).
@@ -94,24 +112,15 @@ impl Solids {
         let position =
             |k: u16| Vec3::from_array(self.vertices[(first + u32::from(k)) as usize].position);
         for tri in &template.triangles {
-            let [p, q, r] = tri.map(position);
-            let normal = (q - p).cross(r - p);
-            let view = match viewpoint {
-                Viewpoint::Eye(eye) => p - eye,
-                Viewpoint::Along(direction) => direction,
-            };
-            // Facing away, with a margin: a triangle seen edge on is kept,
-            // and the pipeline's own culling decides.
-            if normal.dot(view) > 1e-3 * normal.length() * view.length() {
-                continue;
+            if !viewpoint.faces_away(tri.map(position)) {
+                self.indices.extend(tri.map(|k| first + u32::from(k)));
             }
-            self.indices.extend(tri.map(|k| first + u32::from(k)));
         }
     }
 }
 
 /// sRGB decoding of one channel.
-fn srgb_to_linear(c: f32) -> f32 {
+pub(super) fn srgb_to_linear(c: f32) -> f32 {
     if c <= 0.04045 {
         c / 12.92
     } else {
@@ -125,7 +134,7 @@ fn srgb_to_linear(c: f32) -> f32 {
 /// Encoding `linear · light` takes one power per vertex rather than one per
 /// channel: where both decoding and encoding follow the power law, the
 /// result is `(c + 0.055) · light^(1/2.4) − 0.055` exactly.
-fn lit(srgb: [f32; 3], linear: [f32; 3], light: f32, encode: bool) -> [f32; 3] {
+pub(super) fn lit(srgb: [f32; 3], linear: [f32; 3], light: f32, encode: bool) -> [f32; 3] {
     if !encode {
         return linear.map(|c| c * light);
     }
