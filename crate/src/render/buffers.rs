@@ -187,7 +187,7 @@ impl Buffers {
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         scene: &Scene,
         lens: &Lens,
-        shading: &Shading,
+        shading: &Shading<'_>,
     ) {
         let solids = &mut self.tessellated;
         tessellate(solids, &self.templates, scene, lens, shading);
@@ -237,7 +237,7 @@ fn tessellate(
     templates: &[Template; 3],
     scene: &Scene,
     lens: &Lens,
-    shading: &Shading,
+    shading: &Shading<'_>,
 ) {
     let solid = |a: [f32; 3], b: [f32; 3], radius: [f32; 2], color: [f32; 4]| SolidInstance {
         p0_r0: [a[0], a[1], a[2], radius[0].max(0.0)],

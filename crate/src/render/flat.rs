@@ -6,11 +6,11 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use super::geometry::{ClipVertex, ShadedVertex};
-use super::solids::{Shading, Viewpoint, lit, srgb_to_linear};
+use super::solids::{Shading, Viewpoint, srgb_to_linear};
 use crate::view::{Grid, Line, Triangle};
 
 /// The colour `srgb` unlit, in the surface's colour space.
-fn unlit(color: [f32; 4], shading: &Shading) -> [f32; 4] {
+fn unlit(color: [f32; 4], shading: &Shading<'_>) -> [f32; 4] {
     if shading.encode {
         color.map(|c| c.clamp(0.0, 1.0))
     } else {
@@ -22,7 +22,7 @@ fn unlit(color: [f32; 4], shading: &Shading) -> [f32; 4] {
 /// Lines as screen-space quads of their width in pixels (two triangles
 /// each, in clip space), opaque ones first; returns how many lines are
 /// opaque. Lines with a non-finite value are dropped.
-pub(super) fn line_quads(lines: &[Line], shading: &Shading, out: &mut Vec<ClipVertex>) -> u32 {
+pub(super) fn line_quads(lines: &[Line], shading: &Shading<'_>, out: &mut Vec<ClipVertex>) -> u32 {
     out.clear();
     let finite = |l: &&Line| {
         l.a.iter()
@@ -74,7 +74,7 @@ pub(super) fn line_quads(lines: &[Line], shading: &Shading, out: &mut Vec<ClipVe
 pub(super) fn triangle_vertices(
     (triangles, closed): (&[Triangle], &[Triangle]),
     (eye, viewpoint): (Vec3, Viewpoint),
-    shading: &Shading,
+    shading: &Shading<'_>,
     out: &mut Vec<ShadedVertex>,
 ) -> u32 {
     out.clear();
@@ -97,7 +97,8 @@ pub(super) fn triangle_vertices(
             .total_cmp(&centroid(x).distance_squared(eye))
     });
     let opaque_vertices = 3 * opaque.len() as u32;
-    let mut last: Option<([f32; 4], f32, [f32; 4])> = None;
+    // Faces of a mesh share their colour.
+    let mut decoded: Option<([f32; 4], [f32; 3])> = None;
     for t in opaque.into_iter().chain(blend) {
         let [a, b, c] = t.p.map(Vec3::from);
         let mut n = (b - a).cross(c - a).normalize_or(Vec3::Z);
@@ -107,17 +108,17 @@ pub(super) fn triangle_vertices(
         let key = n.dot(shading.key_light).max(0.0);
         let head = n.dot(shading.to_camera).max(0.0);
         let light = 0.35 + 0.4 * key + 0.3 * head;
-        // Neighbouring faces of a mesh often share colour and light.
-        let color = match last {
-            Some((srgb, l, color)) if srgb == t.color && l == light => color,
+        let srgb = [t.color[0], t.color[1], t.color[2]];
+        let linear = match decoded {
+            Some((color, linear)) if color == t.color => linear,
             _ => {
-                let srgb = [t.color[0], t.color[1], t.color[2]];
-                let [r, g, b] = lit(srgb, srgb.map(srgb_to_linear), light, shading.encode);
-                let color = [r, g, b, t.color[3]];
-                last = Some((t.color, light, color));
-                color
+                let linear = srgb.map(srgb_to_linear);
+                decoded = Some((t.color, linear));
+                linear
             }
         };
+        let [r, g, b] = shading.lit(srgb, linear, light);
+        let color = [r, g, b, t.color[3]];
         out.extend(t.p.iter().map(|&position| ShadedVertex { position, color }));
     }
     opaque_vertices
@@ -125,7 +126,7 @@ pub(super) fn triangle_vertices(
 
 /// Adds the lines of `grid` (the two through the origin in the axis
 /// colour) as pairs of vertices.
-pub(super) fn push_grid(lines: &mut Vec<ShadedVertex>, grid: &Grid, shading: &Shading) {
+pub(super) fn push_grid(lines: &mut Vec<ShadedVertex>, grid: &Grid, shading: &Shading<'_>) {
     if !(grid.spacing.is_finite() && grid.half_extent.is_finite())
         || grid.spacing <= 0.0
         || grid.half_extent <= 0.0

@@ -47,7 +47,7 @@ use crate::view::{Camera, Scene};
 use buffers::{Buffers, Lens};
 use gpu::Gpu;
 use pipelines::{Globals, Pipelines};
-use solids::Shading;
+use solids::{Roots, Shading};
 
 /// Which graphics API draws the canvas.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -138,6 +138,8 @@ pub struct Renderer {
     msaa_view: Option<wgpu::TextureView>,
     background: wgpu::Color,
     globals: Globals,
+    /// The table lit colours are encoded with.
+    roots: Roots,
 }
 
 impl Renderer {
@@ -180,6 +182,7 @@ impl Renderer {
             msaa_view,
             background: wgpu::Color::WHITE,
             globals,
+            roots: Roots::default(),
         })
     }
 
@@ -261,6 +264,7 @@ impl Renderer {
             encode,
             view_proj: camera.view_proj(width / height),
             half_px: 0.5 * glam::Vec2::new(width, height),
+            roots: &self.roots,
         };
         self.buffers.upload(
             (&self.gpu.device, &self.gpu.queue),

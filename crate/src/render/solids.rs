@@ -20,7 +20,7 @@ use super::geometry::{ShadedVertex, SolidInstance, Template};
 
 /// The lights and the colour space, as the shaders have them.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Shading {
+pub(super) struct Shading<'a> {
     /// Unit vector from the scene towards the camera (the headlight).
     pub to_camera: Vec3,
     /// Unit vector towards the key light.
@@ -32,6 +32,8 @@ pub(super) struct Shading {
     pub view_proj: Mat4,
     /// Half the drawing buffer's size (pixels).
     pub half_px: Vec2,
+    /// The roots `lit` encodes with.
+    pub roots: &'a Roots,
 }
 
 /// Where the triangles are seen from, for culling the back faces.
@@ -53,7 +55,8 @@ impl Viewpoint {
             Viewpoint::Eye(eye) => p - eye,
             Viewpoint::Along(direction) => direction,
         };
-        normal.dot(view) > 1e-3 * normal.length() * view.length()
+        let d = normal.dot(view);
+        d > 0.0 && d * d > 1e-6 * normal.length_squared() * view.length_squared()
     }
 }
 
@@ -79,7 +82,7 @@ impl Solids {
         &mut self,
         solid: &SolidInstance,
         template: &Template,
-        shading: &Shading,
+        shading: &Shading<'_>,
         viewpoint: Viewpoint,
     ) {
         let a = Vec3::from_slice(&solid.p0_r0[..3]);
@@ -103,7 +106,7 @@ impl Solids {
             let key = n.dot(shading.key_light).max(0.0);
             let head = n.dot(shading.to_camera).max(0.0);
             let light = 0.28 + 0.47 * key + 0.35 * head;
-            let [r, g, bl] = lit(srgb, linear, light, shading.encode);
+            let [r, g, bl] = shading.lit(srgb, linear, light);
             self.vertices.push(ShadedVertex {
                 position: (centre + radius * n).to_array(),
                 color: [r, g, bl, solid.color[3]],
@@ -128,29 +131,63 @@ pub(super) fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
-/// The colour `srgb` (decoded: `linear`) lit by `light`: linear, or encoded
-/// back to sRGB (clamped to 0..=1) when `encode`.
-///
-/// Encoding `linear · light` takes one power per vertex rather than one per
-/// channel: where both decoding and encoding follow the power law, the
-/// result is `(c + 0.055) · light^(1/2.4) − 0.055` exactly.
-pub(super) fn lit(srgb: [f32; 3], linear: [f32; 3], light: f32, encode: bool) -> [f32; 3] {
-    if !encode {
-        return linear.map(|c| c * light);
+/// Samples of `light^(1/2.4)` over `0..=ROOT_RANGE`, for encoding lit
+/// colours without a power per vertex.
+const ROOT_SAMPLES: usize = 64;
+const ROOT_RANGE: f32 = 1.25;
+
+/// `light^(1/2.4)` for `light` in `0..=ROOT_RANGE`, interpolated linearly
+/// between samples (within about 1e-4 of the power from 0.25 on, far below a
+/// step of an 8-bit channel), the power itself elsewhere.
+#[derive(Clone, Debug)]
+pub(super) struct Roots([f32; ROOT_SAMPLES + 1]);
+
+impl Default for Roots {
+    fn default() -> Self {
+        Self(std::array::from_fn(|k| {
+            (k as f32 * ROOT_RANGE / ROOT_SAMPLES as f32).powf(1.0 / 2.4)
+        }))
     }
-    let root = light.powf(1.0 / 2.4);
-    let mut out = [0.0; 3];
-    for ((o, &c), &lin) in out.iter_mut().zip(&srgb).zip(&linear) {
-        let x = lin * light;
-        *o = if x <= 0.003_130_8 {
-            12.92 * x.max(0.0)
-        } else if x >= 1.0 {
-            1.0
-        } else if c > 0.04045 {
-            (c + 0.055) * root - 0.055
-        } else {
-            1.055 * x.powf(1.0 / 2.4) - 0.055
-        };
+}
+
+impl Roots {
+    fn get(&self, light: f32) -> f32 {
+        if !(0.25..ROOT_RANGE).contains(&light) {
+            return light.max(0.0).powf(1.0 / 2.4);
+        }
+        let x = light * (ROOT_SAMPLES as f32 / ROOT_RANGE);
+        let k = (x as usize).min(ROOT_SAMPLES - 1);
+        let t = x - k as f32;
+        self.0[k] + t * (self.0[k + 1] - self.0[k])
     }
-    out
+}
+
+impl Shading<'_> {
+    /// The colour `srgb` (decoded: `linear`) lit by `light`: linear, or
+    /// encoded back to sRGB (clamped to 0..=1) when encoding.
+    ///
+    /// Encoding `linear · light` takes no power per channel: where both
+    /// decoding and encoding follow the power law, the result is
+    /// `(c + 0.055) · light^(1/2.4) − 0.055` exactly, the root interpolated
+    /// from a table.
+    pub fn lit(&self, srgb: [f32; 3], linear: [f32; 3], light: f32) -> [f32; 3] {
+        if !self.encode {
+            return linear.map(|c| c * light);
+        }
+        let root = self.roots.get(light);
+        let mut out = [0.0; 3];
+        for ((o, &c), &lin) in out.iter_mut().zip(&srgb).zip(&linear) {
+            let x = lin * light;
+            *o = if x <= 0.003_130_8 {
+                12.92 * x.max(0.0)
+            } else if x >= 1.0 {
+                1.0
+            } else if c > 0.04045 {
+                ((c + 0.055) * root - 0.055).min(1.0)
+            } else {
+                1.055 * x.powf(1.0 / 2.4) - 0.055
+            };
+        }
+        out
+    }
 }
