@@ -158,6 +158,12 @@ pub(super) struct Buffers {
 }
 
 impl Buffers {
+    /// Triangles of the last upload's solids at their level of detail,
+    /// back faces included.
+    pub fn solid_triangles(&self) -> u64 {
+        self.tessellated.detail
+    }
+
     /// The templates, and empty buffers.
     pub fn new(device: &wgpu::Device) -> Self {
         let instances = |label, stride| InstanceBuffer::new(device, label, stride);

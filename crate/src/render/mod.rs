@@ -211,11 +211,19 @@ impl Renderer {
     }
 
     /// Triangles the last uploaded scene draws: solids at their level of
-    /// detail, flat figures and line quads (grid hairlines not counted).
+    /// detail (the faces turned away from the eye left out), flat figures
+    /// and line quads (grid hairlines not counted).
     #[must_use]
     pub fn triangles(&self) -> u64 {
         let n = self.buffers.counts;
         u64::from(n.solids + n.mesh_opaque + n.mesh_blend + n.lines) / 3
+    }
+
+    /// Triangles of the last uploaded scene's capsules and spheres at their
+    /// level of detail, back faces included.
+    #[must_use]
+    pub fn solid_triangles(&self) -> u64 {
+        self.buffers.solid_triangles()
     }
 
     /// Drawing-buffer size in pixels.

@@ -67,6 +67,8 @@ pub(super) struct Solids {
     pub indices: Vec<u32>,
     /// Indices of the opaque solids (they come first).
     pub opaque_indices: u32,
+    /// Triangles of the templates, back faces included.
+    pub detail: u64,
 }
 
 impl Solids {
@@ -75,6 +77,7 @@ impl Solids {
         self.vertices.clear();
         self.indices.clear();
         self.opaque_indices = 0;
+        self.detail = 0;
     }
 
     /// Adds `solid` drawn with `template`.
@@ -95,6 +98,7 @@ impl Solids {
         let v = axis.cross(u);
         let srgb = [solid.color[0], solid.color[1], solid.color[2]];
         let linear = srgb.map(srgb_to_linear);
+        self.detail += template.triangles.len() as u64;
         let first = self.vertices.len() as u32;
         for t in &template.vertices {
             let n = u * t.dir[0] + v * t.dir[1] + axis * t.dir[2];
