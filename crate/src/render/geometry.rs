@@ -1,4 +1,5 @@
-//! Template meshes, built once and instanced for every primitive.
+//! Vertex layouts and the capsule template at three levels of detail
+//! (placed on the CPU for every capsule and sphere).
 
 use bytemuck::{Pod, Zeroable};
 
@@ -11,37 +12,27 @@ pub(crate) struct SolidVertex {
     pub side: f32,
 }
 
-/// A corner of the line quad: which end (0, 1) and which side (-1, 1).
+/// A vertex already in clip space, lit and encoded (the lines' quads).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct LineVertex {
-    pub corner: [f32; 2],
+pub(crate) struct ClipVertex {
+    pub clip: [f32; 4],
+    pub color: [f32; 4],
 }
 
-/// Per-instance data of a capsule or sphere.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+/// A capsule or sphere: end points, radii and colour.
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct SolidInstance {
     pub p0_r0: [f32; 4],
     pub p1_r1: [f32; 4],
     pub color: [f32; 4],
 }
 
-/// Per-instance data of a line.
+/// A vertex lit and encoded on the CPU (the capsules and spheres).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct LineInstance {
-    pub p0_width: [f32; 4],
-    pub p1: [f32; 4],
-    pub color: [f32; 4],
-}
-
-/// A vertex of a flat-shaded triangle.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub(crate) struct MeshVertex {
+pub(crate) struct ShadedVertex {
     pub position: [f32; 3],
-    pub normal: [f32; 3],
     pub color: [f32; 4],
 }
 
@@ -87,41 +78,30 @@ pub(crate) fn level_for(pixels: f32) -> usize {
         .unwrap_or(LEVELS.len() - 1)
 }
 
-/// Where one level lies in the shared template buffers.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct TemplateRange {
-    pub first_index: u32,
-    pub index_count: u32,
+/// One level of the capsule template: unit directions with the end they
+/// hang from, and triangles (indices into them), counter-clockwise seen
+/// from outside.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Template {
+    pub vertices: Vec<SolidVertex>,
+    pub triangles: Vec<[u16; 3]>,
 }
 
-/// Every level's template in one vertex and one index buffer, with the
-/// range of each. Indices count from the start of the vertex buffer (WebGL2
-/// has no base vertex).
-pub(crate) fn capsule_templates() -> (Vec<SolidVertex>, Vec<u16>, [TemplateRange; 3]) {
-    let mut vertices = Vec::new();
-    let mut indices = Vec::new();
-    let mut ranges = [TemplateRange::default(); 3];
-    for (range, level) in ranges.iter_mut().zip(LEVELS) {
-        let (v, i) = capsule_template(level.rings, level.sectors);
-        let base = vertices.len() as u16;
-        *range = TemplateRange {
-            first_index: indices.len() as u32,
-            index_count: i.len() as u32,
-        };
-        vertices.extend(v);
-        indices.extend(i.iter().map(|k| base + k));
-    }
-    (vertices, indices, ranges)
+/// The template of every level, coarsest first.
+pub(crate) fn capsule_templates() -> [Template; 3] {
+    LEVELS.map(|level| capsule_template(level.rings, level.sectors))
 }
 
 /// The capsule template as indexed triangles (a vertex grid shared by its
-/// neighbours, so each is shaded once; WebGL2 and WebGPU alike), with
-/// `rings` per hemisphere and `sectors` around the axis.
+/// neighbours, so each is lit once), with `rings` per hemisphere and
+/// `sectors` around the axis.
 ///
 /// Two hemispheres, the one at `a` (pointing along −z) and the one at `b`
 /// (along +z), each with its own equator ring, joined by a band: with equal
-/// end points and radii it is a sphere.
-fn capsule_template(rings: u32, sectors: u32) -> (Vec<SolidVertex>, Vec<u16>) {
+/// end points and radii it is a sphere. The rows at the poles are single
+/// points repeated around the axis, so the triangles of the bands next to
+/// them are fans: the quads' other halves would have no area.
+fn capsule_template(rings: u32, sectors: u32) -> Template {
     // Rows of unit directions, from the −z pole to the +z pole; each row
     // carries the side it belongs to. The two equator rows are the band.
     let mut rows: Vec<(f32, f32)> = Vec::new(); // (polar angle from +z, side)
@@ -145,29 +125,26 @@ fn capsule_template(rings: u32, sectors: u32) -> (Vec<SolidVertex>, Vec<u16>) {
             });
         }
     }
-    let mut indices = Vec::with_capacity((rows.len() - 1) * sectors as usize * 6);
-    for r in 0..rows.len() as u32 - 1 {
+    let last_band = rows.len() as u32 - 2;
+    let mut triangles = Vec::with_capacity((rows.len() - 1) * sectors as usize * 2);
+    for r in 0..=last_band {
         for j in 0..sectors {
             let a = (r * columns + j) as u16;
             let b = a + 1;
             let c = a + columns as u16;
             let d = c + 1;
-            // Counter-clockwise seen from outside.
-            indices.extend_from_slice(&[a, b, d, a, d, c]);
+            // Counter-clockwise seen from outside; a and b are one point on
+            // the first row, c and d on the last.
+            if r != 0 {
+                triangles.push([a, b, d]);
+            }
+            if r != last_band {
+                triangles.push([a, d, c]);
+            }
         }
     }
-    (vertices, indices)
-}
-
-/// The line quad as two triangles.
-pub(crate) fn line_template() -> [LineVertex; 6] {
-    let v = |t: f32, s: f32| LineVertex { corner: [t, s] };
-    [
-        v(0.0, -1.0),
-        v(1.0, -1.0),
-        v(1.0, 1.0),
-        v(0.0, -1.0),
-        v(1.0, 1.0),
-        v(0.0, 1.0),
-    ]
+    Template {
+        vertices,
+        triangles,
+    }
 }

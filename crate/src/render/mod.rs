@@ -1,8 +1,8 @@
 //! The wgpu renderer of the playground (wasm32 only, feature `render`).
 //!
 //! It knows nothing of robots: each frame the caller describes a [`Scene`]
-//! (instanced tapered capsules and spheres with simple shading, lines of a
-//! given width on screen, a ground grid) and a [`Camera`], and the renderer
+//! (tapered capsules and spheres with simple shading, lines of a given
+//! width on screen, flat triangles, a ground grid) and a [`Camera`], and the renderer
 //! draws them into an HTML canvas through WebGPU, or WebGL2 where WebGPU is
 //! missing. The shape follows the wgpu examples: [`Renderer::new`] (async),
 //! [`Renderer::resize`], [`Renderer::update`], [`Renderer::render`].
@@ -12,14 +12,16 @@
 //! | `mod.rs` | [`Renderer`]: update (uniforms, upload) and the render pass |
 //! | `gpu.rs` | surface and device setup: backends, adapter, device, surface format, multisampling, attachments |
 //! | `pipelines.rs` | the uniforms, their bind group, one pipeline per primitive and blending |
-//! | `buffers.rs` | template meshes and per-frame instance buffers (opaque first, translucent back to front), the solids' level of detail |
-//! | `geometry.rs` | the vertex layouts, the capsule template at three levels of detail, the line template |
+//! | `buffers.rs` | the per-frame vertex, index and instance buffers (opaque first, translucent back to front), the solids' level of detail |
+//! | `solids.rs` | capsules and spheres placed, lit and back-face culled on the CPU, drawn as one list of triangles |
+//! | `flat.rs` | lines (as quads in clip space), flat triangles and the grid, lit on the CPU |
+//! | `geometry.rs` | the vertex layouts, the capsule template at three levels of detail |
 //! | `shader.wgsl` | the shaders |
 //!
 //! Colours are sRGB-encoded in the scene; the renderer picks a non-sRGB
-//! surface format when one is offered and encodes in the shader, or lets the
-//! hardware encode into an sRGB format, so a colour reads the same on both
-//! backends.
+//! surface format when one is offered and encodes on the CPU as it lights
+//! each vertex, or lets the hardware encode into an sRGB format, so a colour
+//! reads the same on both backends. The shaders only place the vertices.
 //!
 //! Draw order: opaque solids and opaque triangles (depth written), lines
 //! (depth tested, not written), then translucent triangles and translucent
@@ -27,21 +29,33 @@
 //! so distance lines stay visible inside volumes and behind a glassy plane.
 //!
 //! Level of detail: each capsule or sphere is drawn with the coarsest of
-//! three templates (140, 308 or 540 triangles) that keeps its silhouette within
-//! about 0.75 px, from its radius on screen. A software rasteriser spends
-//! its time per triangle: on headless Chromium's SwiftShader this took the
-//! `human-panda` example from about 48 to 60 frames per second.
+//! three templates (120, 280 or 504 triangles, about half of them facing
+//! the eye) that keeps its silhouette within about 0.75 px, from its radius
+//! on screen. A software rasteriser spends its time per triangle and per
+//! draw: the solids are placed, lit and culled on the CPU (`solids.rs`) and
+//! reach it as two indexed draws of front faces, not one instance each.
+//!
+//! Cost on headless Chromium's SwiftShader (WebGPU, 1280×800, `npm run
+//! bench -- --frames`): CPU time of the GPU process per frame from 38.1 to
+//! 27.1 ms in `human-panda` (31 242 to 13 537 triangles; 38.8 fps, short of
+//! the 50 fps goal: what is left is mostly pixels; in a quarter of them it
+//! ran at 57 fps) and from 53.9 to 33.3 ms with the iiwa 14's collision
+//! meshes (59 614 to 24 915 triangles, 33.6 fps); the lighter examples run
+//! at 54 to 60 fps. The README gives the whole table and its load.
 
 mod buffers;
+mod flat;
 mod geometry;
 mod gpu;
 mod pipelines;
+mod solids;
 
 use crate::view::{Camera, Scene};
 
-use buffers::{Buffers, Lens, Run};
+use buffers::{Buffers, Lens};
 use gpu::Gpu;
 use pipelines::{Globals, Pipelines};
+use solids::{Roots, Shading};
 
 /// Which graphics API draws the canvas.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -132,6 +146,8 @@ pub struct Renderer {
     msaa_view: Option<wgpu::TextureView>,
     background: wgpu::Color,
     globals: Globals,
+    /// The table lit colours are encoded with.
+    roots: Roots,
 }
 
 impl Renderer {
@@ -174,6 +190,7 @@ impl Renderer {
             msaa_view,
             background: wgpu::Color::WHITE,
             globals,
+            roots: Roots::default(),
         })
     }
 
@@ -202,21 +219,19 @@ impl Renderer {
     }
 
     /// Triangles the last uploaded scene draws: solids at their level of
-    /// detail, flat figures and line quads (grid hairlines not counted).
+    /// detail (the faces turned away from the eye left out), flat figures
+    /// and line quads (grid hairlines not counted).
     #[must_use]
     pub fn triangles(&self) -> u64 {
-        let b = &self.buffers;
-        let solids: u64 = b
-            .opaque_runs
-            .iter()
-            .chain(&b.blend_runs)
-            .map(|run| {
-                u64::from(b.levels[run.level].index_count / 3)
-                    * u64::from(run.instances.len() as u32)
-            })
-            .sum();
-        let n = b.counts;
-        solids + u64::from(n.mesh_opaque + n.mesh_blend) / 3 + 2 * u64::from(n.lines)
+        let n = self.buffers.counts;
+        u64::from(n.solids + n.mesh_opaque + n.mesh_blend + n.lines) / 3
+    }
+
+    /// Triangles of the last uploaded scene's capsules and spheres at their
+    /// level of detail, back faces included.
+    #[must_use]
+    pub fn solid_triangles(&self) -> u64 {
+        self.buffers.solid_triangles()
     }
 
     /// Drawing-buffer size in pixels.
@@ -259,11 +274,19 @@ impl Renderer {
             b: channel(b),
             a: 1.0,
         };
+        let shading = Shading {
+            to_camera: back,
+            key_light: key,
+            encode,
+            view_proj: camera.view_proj(width / height),
+            half_px: 0.5 * glam::Vec2::new(width, height),
+            roots: &self.roots,
+        };
         self.buffers.upload(
-            &self.gpu.device,
-            &self.gpu.queue,
+            (&self.gpu.device, &self.gpu.queue),
             scene,
             &Lens::new(camera, height),
+            &shading,
         );
     }
 
@@ -353,19 +376,14 @@ impl Renderer {
     /// triangles, the grid, lines, then translucent triangles and solids.
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         let (p, b, n) = (&self.pipelines, &self.buffers, self.buffers.counts);
-        let solids = |pass: &mut wgpu::RenderPass<'_>, pipeline, runs: &[Run]| {
-            if runs.is_empty() {
+        let solids = |pass: &mut wgpu::RenderPass<'_>, pipeline, range: std::ops::Range<u32>| {
+            if range.is_empty() {
                 return;
             }
             pass.set_pipeline(pipeline);
-            pass.set_vertex_buffer(0, b.solid_template.slice(..));
-            pass.set_vertex_buffer(1, b.solids.buffer.slice(..));
-            pass.set_index_buffer(b.solid_indices.slice(..), wgpu::IndexFormat::Uint16);
-            for run in runs {
-                let t = b.levels[run.level];
-                let indices = t.first_index..t.first_index + t.index_count;
-                pass.draw_indexed(indices, 0, run.instances.clone());
-            }
+            pass.set_vertex_buffer(0, b.solid_vertices.buffer.slice(..));
+            pass.set_index_buffer(b.solid_indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(range, 0, 0..1);
         };
         let vertices = |pass: &mut wgpu::RenderPass<'_>,
                         pipeline,
@@ -378,23 +396,14 @@ impl Renderer {
             pass.set_vertex_buffer(0, buffer.slice(..));
             pass.draw(range, 0..1);
         };
-        let lines = |pass: &mut wgpu::RenderPass<'_>, pipeline, range: std::ops::Range<u32>| {
-            if range.is_empty() {
-                return;
-            }
-            pass.set_pipeline(pipeline);
-            pass.set_vertex_buffer(0, b.line_template.slice(..));
-            pass.set_vertex_buffer(1, b.lines.buffer.slice(..));
-            pass.draw(0..6, range);
-        };
         let all_mesh = n.mesh_opaque + n.mesh_blend;
-        solids(pass, &p.solid_opaque, &b.opaque_runs);
+        solids(pass, &p.solid_opaque, 0..n.solid_opaque);
         vertices(pass, &p.mesh_opaque, &b.mesh.buffer, 0..n.mesh_opaque);
         vertices(pass, &p.hair, &b.hair.buffer, 0..n.hair);
-        lines(pass, &p.line_opaque, 0..n.line_opaque);
-        lines(pass, &p.line_blend, n.line_opaque..n.lines);
+        vertices(pass, &p.line_opaque, &b.lines.buffer, 0..n.line_opaque);
+        vertices(pass, &p.line_blend, &b.lines.buffer, n.line_opaque..n.lines);
         vertices(pass, &p.mesh_blend, &b.mesh.buffer, n.mesh_opaque..all_mesh);
-        solids(pass, &p.solid_blend, &b.blend_runs);
+        solids(pass, &p.solid_blend, n.solid_opaque..n.solids);
     }
 }
 

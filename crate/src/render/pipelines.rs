@@ -6,7 +6,7 @@ use std::borrow::Cow;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-use super::geometry::{LineInstance, LineVertex, MeshVertex, SolidInstance, SolidVertex};
+use super::geometry::{ClipVertex, ShadedVertex};
 use super::gpu::DEPTH_FORMAT;
 
 /// Uniforms shared by every pipeline (layout mirrors `Globals` in the shader).
@@ -109,24 +109,15 @@ struct Builder<'a> {
 
 impl Builder<'_> {
     fn solid(&self, blend: bool) -> wgpu::RenderPipeline {
-        let template = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<SolidVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32],
-        };
-        let instance = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<SolidInstance>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &wgpu::vertex_attr_array![2 => Float32x4, 3 => Float32x4, 4 => Float32x4],
-        };
+        let vertex = shaded_layout();
         self.build(
             if blend {
                 "translucent solids"
             } else {
                 "opaque solids"
             },
-            ("vs_solid", "fs_solid"),
-            &[Some(template), Some(instance)],
+            ("vs_world", "fs_color"),
+            &[Some(vertex)],
             Some(wgpu::Face::Back),
             !blend,
             blend,
@@ -134,18 +125,14 @@ impl Builder<'_> {
     }
 
     fn mesh(&self, blend: bool) -> wgpu::RenderPipeline {
-        let vertex = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<MeshVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
-        };
+        let vertex = shaded_layout();
         self.build(
             if blend {
                 "translucent triangles"
             } else {
                 "opaque triangles"
             },
-            ("vs_mesh", "fs_mesh"),
+            ("vs_world", "fs_color"),
             &[Some(vertex)],
             None,
             !blend,
@@ -154,20 +141,15 @@ impl Builder<'_> {
     }
 
     fn lines(&self, blend: bool) -> wgpu::RenderPipeline {
-        let template = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<LineVertex>() as u64,
+        let vertex = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<ClipVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x2],
-        };
-        let instance = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<LineInstance>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &wgpu::vertex_attr_array![1 => Float32x4, 2 => Float32x4, 3 => Float32x4],
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
         };
         self.build(
             if blend { "lines" } else { "opaque lines" },
-            ("vs_line", "fs_line"),
-            &[Some(template), Some(instance)],
+            ("vs_clip", "fs_color"),
+            &[Some(vertex)],
             None,
             false,
             blend,
@@ -194,14 +176,10 @@ impl Builder<'_> {
     }
 
     fn hairlines(&self) -> wgpu::RenderPipeline {
-        let vertex = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<MeshVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4],
-        };
+        let vertex = shaded_layout();
         self.build_with(
             "hairlines",
-            ("vs_hair", "fs_mesh"),
+            ("vs_world", "fs_color"),
             &[Some(vertex)],
             (wgpu::PrimitiveTopology::LineList, None),
             false,
@@ -258,5 +236,16 @@ impl Builder<'_> {
                 multiview_mask: None,
                 cache: None,
             })
+    }
+}
+
+/// The layout of a lit vertex in world space (position, colour).
+fn shaded_layout() -> wgpu::VertexBufferLayout<'static> {
+    const ATTRIBUTES: [wgpu::VertexAttribute; 2] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4];
+    wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<ShadedVertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &ATTRIBUTES,
     }
 }

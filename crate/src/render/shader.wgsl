@@ -1,17 +1,15 @@
 // Shaders of the playground renderer.
 //
-// Colours arrive sRGB-encoded (as in CSS) and are decoded per vertex.
-// Lighting is computed in linear space; the result is encoded back to sRGB here when the surface format is
-// not an sRGB one (`globals.viewport.z == 1`), so the pixels are the same on
-// WebGPU and WebGL2 whichever format the surface ends up with.
-//
-// Everything is lit and encoded per vertex and the fragment shaders only
-// pass the colour on: a software rasteriser (SwiftShader) spends most of a
-// frame shading the fragments of large translucent volumes, and three `pow`
-// per fragment were most of that. Flat triangles, lines and the grid have
-// one colour per primitive, so nothing changes for them; the capsule
-// template is fine enough (18 sectors, 7 rings per cap) that lighting its
-// vertices reads the same as lighting its pixels.
+// Everything arrives lit and in the surface's colour space: colours are
+// given sRGB-encoded (as in CSS), lit in linear space on the CPU and encoded
+// back to sRGB there when the surface format is not an sRGB one, so the
+// pixels are the same on WebGPU and WebGL2 whichever format the surface ends
+// up with (render/solids.rs, render/flat.rs). The shaders only place the
+// vertices and pass the colour on: a software rasteriser (SwiftShader)
+// shades vertices and fragments slowly, and `pow` per fragment once was most
+// of a frame. Flat triangles, lines and the grid have one colour per
+// primitive; the capsule template is fine enough (18 sectors, 7 rings per
+// cap) that lighting its vertices reads the same as lighting its pixels.
 
 struct Globals {
     view_proj: mat4x4<f32>,
@@ -19,169 +17,40 @@ struct Globals {
     to_camera: vec4<f32>,
     // Unit vector towards the key light.
     key_light: vec4<f32>,
-    // x, y: drawing-buffer size in pixels; z: 1 to encode sRGB in the shader.
+    // x, y: drawing-buffer size in pixels; z: 1 when colours are encoded
+    // to sRGB before they arrive (the surface format is not an sRGB one).
     viewport: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> globals: Globals;
 
-fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
-    let lo = c / 12.92;
-    let hi = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
-    return select(hi, lo, c <= vec3<f32>(0.04045));
-}
-
-fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
-    let lo = c * 12.92;
-    let hi = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
-    return select(hi, lo, c <= vec3<f32>(0.0031308));
-}
-
-fn encode(linear: vec3<f32>) -> vec3<f32> {
-    if globals.viewport.z > 0.5 {
-        return linear_to_srgb(clamp(linear, vec3<f32>(0.0), vec3<f32>(1.0)));
-    }
-    return linear;
-}
-
-// ---- Solids: tapered capsules (spheres are capsules of zero length) ----
-
-struct SolidOut {
+struct Out {
     @builtin(position) clip: vec4<f32>,
     // Lit and encoded.
     @location(0) color: vec4<f32>,
 };
 
+// Capsules, spheres, flat triangles and the grid's hairlines: a position in
+// the world.
 @vertex
-fn vs_solid(
-    // Template: unit direction in the capsule's frame (z along the axis) and
-    // which end (0 or 1) the vertex belongs to.
-    @location(0) dir: vec3<f32>,
-    @location(1) side: f32,
-    // Instance: end points, radii and colour.
-    @location(2) p0_r0: vec4<f32>,
-    @location(3) p1_r1: vec4<f32>,
-    @location(4) color: vec4<f32>,
-) -> SolidOut {
-    let axis_raw = p1_r1.xyz - p0_r0.xyz;
-    let len = length(axis_raw);
-    var axis = vec3<f32>(0.0, 0.0, 1.0);
-    if len > 1e-6 {
-        axis = axis_raw / len;
-    }
-    // Any unit vector not parallel to the axis gives an orthonormal frame.
-    var helper = vec3<f32>(1.0, 0.0, 0.0);
-    if abs(axis.x) > 0.9 {
-        helper = vec3<f32>(0.0, 1.0, 0.0);
-    }
-    let u = normalize(cross(helper, axis));
-    let v = cross(axis, u);
-    let n = u * dir.x + v * dir.y + axis * dir.z;
-    var centre = p0_r0.xyz;
-    var radius = p0_r0.w;
-    if side > 0.5 {
-        centre = p1_r1.xyz;
-        radius = p1_r1.w;
-    }
-    let key = max(dot(n, globals.key_light.xyz), 0.0);
-    let head = max(dot(n, globals.to_camera.xyz), 0.0);
-    let light = 0.28 + 0.47 * key + 0.35 * head;
-    var out: SolidOut;
-    out.clip = globals.view_proj * vec4<f32>(centre + radius * n, 1.0);
-    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb) * light), color.a);
-    return out;
-}
-
-@fragment
-fn fs_solid(in: SolidOut) -> @location(0) vec4<f32> {
-    return in.color;
-}
-
-// ---- Lines: screen-space quads of a given width in pixels ----
-
-struct LineOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) color: vec4<f32>,
-};
-
-@vertex
-fn vs_line(
-    // Template: x = which end (0 or 1), y = which side of the line (-1 or 1).
-    @location(0) corner: vec2<f32>,
-    @location(1) p0_width: vec4<f32>,
-    @location(2) p1: vec4<f32>,
-    @location(3) color: vec4<f32>,
-) -> LineOut {
-    let c0 = globals.view_proj * vec4<f32>(p0_width.xyz, 1.0);
-    let c1 = globals.view_proj * vec4<f32>(p1.xyz, 1.0);
-    let half_px = 0.5 * globals.viewport.xy;
-    let s0 = c0.xy / max(abs(c0.w), 1e-6) * half_px;
-    let s1 = c1.xy / max(abs(c1.w), 1e-6) * half_px;
-    var d = s1 - s0;
-    if length(d) < 1e-6 {
-        d = vec2<f32>(1.0, 0.0);
-    }
-    d = normalize(d);
-    let normal_px = vec2<f32>(-d.y, d.x) * corner.y * 0.5 * p0_width.w;
-    var c = c0;
-    if corner.x > 0.5 {
-        c = c1;
-    }
-    var out: LineOut;
-    out.clip = vec4<f32>(c.xy + normal_px / half_px * c.w, c.z, c.w);
-    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb)), color.a);
-    return out;
-}
-
-@fragment
-fn fs_line(in: LineOut) -> @location(0) vec4<f32> {
-    return in.color;
-}
-
-// ---- Meshes: flat triangles lit from both sides ----
-
-struct MeshOut {
-    @builtin(position) clip: vec4<f32>,
-    // Lit (triangles) or not (hairlines), and encoded.
-    @location(0) color: vec4<f32>,
-};
-
-@vertex
-fn vs_mesh(
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) color: vec4<f32>,
-) -> MeshOut {
-    // Light whichever face is seen: turn the normal towards the camera. The
-    // normal is the face's, the same at its three corners.
-    var n = normalize(normal);
-    if dot(n, globals.to_camera.xyz) < 0.0 {
-        n = -n;
-    }
-    let key = max(dot(n, globals.key_light.xyz), 0.0);
-    let head = max(dot(n, globals.to_camera.xyz), 0.0);
-    let light = 0.35 + 0.4 * key + 0.3 * head;
-    var out: MeshOut;
+fn vs_world(@location(0) position: vec3<f32>, @location(1) color: vec4<f32>) -> Out {
+    var out: Out;
     out.clip = globals.view_proj * vec4<f32>(position, 1.0);
-    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb) * light), color.a);
+    out.color = color;
+    return out;
+}
+
+// Lines: the corners of screen-space quads of a given width in pixels,
+// placed in clip space.
+@vertex
+fn vs_clip(@location(0) clip: vec4<f32>, @location(1) color: vec4<f32>) -> Out {
+    var out: Out;
+    out.clip = clip;
+    out.color = color;
     return out;
 }
 
 @fragment
-fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
+fn fs_color(in: Out) -> @location(0) vec4<f32> {
     return in.color;
-}
-
-// ---- Hairlines (the ground grid): one pixel wide, unlit ----
-
-@vertex
-fn vs_hair(
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) color: vec4<f32>,
-) -> MeshOut {
-    var out: MeshOut;
-    out.clip = globals.view_proj * vec4<f32>(position, 1.0);
-    out.color = vec4<f32>(encode(srgb_to_linear(color.rgb)), color.a);
-    return out;
 }

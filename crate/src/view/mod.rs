@@ -8,11 +8,12 @@
 //!
 //! | file | what it holds |
 //! |---|---|
-//! | `scene.rs` | [`Scene`]: capsules, spheres, lines, triangles, a ground grid (f32, sRGB) |
+//! | `scene.rs` | [`Scene`]: capsules, spheres, lines, triangles, closed surfaces, a ground grid (f32, sRGB) |
 //! | `camera.rs` | [`Camera`]: orbit / pan / zoom, perspective or the 2D views, projection and picking rays |
 //! | `draw.rs` | [`DrawState`] and [`build_scene`]: skeleton, obstacles, control points, arrows, margins |
 //! | `shapes.rs` | each obstacle primitive as scene items |
 //! | `framing.rs` | [`Reach`], [`is_planar`], [`fit_points`] |
+//! | `meshes.rs` | [`LinkMesh`]: a link's mesh in its row's frame (welded; closed surfaces turned outwards, drawn one-sided), placed each frame |
 //! | `stage.rs` | [`Stage`]: robot, pose, world, selection, display and camera together |
 //!
 //! Data flow of one frame: `World` → [`crate::world::WorldState`] →

@@ -93,6 +93,10 @@ pub struct Scene {
     pub lines: Vec<Line>,
     /// Flat triangles (opaque and translucent).
     pub triangles: Vec<Triangle>,
+    /// Opaque triangles of closed surfaces, each wound counter-clockwise
+    /// seen from outside (link meshes): only those facing the camera are
+    /// drawn.
+    pub closed: Vec<Triangle>,
 }
 
 impl Default for Scene {
@@ -104,6 +108,7 @@ impl Default for Scene {
             spheres: Vec::new(),
             lines: Vec::new(),
             triangles: Vec::new(),
+            closed: Vec::new(),
         }
     }
 }
@@ -121,6 +126,7 @@ impl Scene {
         self.spheres.clear();
         self.lines.clear();
         self.triangles.clear();
+        self.closed.clear();
     }
 
     /// Adds a closed outline through `points` as lines of `width` pixels.

@@ -38,8 +38,12 @@ struct ViewerState {
     surface_format: String,
     sample_count: u32,
     /// Triangles the last upload draws (solids at their level of detail,
-    /// flat figures and line quads; grid hairlines not counted).
+    /// facing the eye; flat figures and line quads; grid hairlines not
+    /// counted).
     triangles: u64,
+    /// Triangles of the capsules and spheres at their level of detail,
+    /// back faces included (what the level of detail alone decides).
+    solid_triangles: u64,
     view: &'static str,
     width: u32,
     height: u32,
@@ -462,8 +466,11 @@ impl Viewer {
     }
 
     /// A snapshot for tests and tools: `{ backend, surfaceFormat,
-    /// sampleCount, triangles, view, width, height, dof, q, nodes, screenNodes }`, where
-    /// `screenNodes` are the skeleton nodes in drawing-buffer pixels.
+    /// sampleCount, triangles, solidTriangles, view, width, height, dof, q,
+    /// nodes, screenNodes }`, where `triangles` are those drawn (the solids'
+    /// faces turned away left out), `solidTriangles` those of the capsules
+    /// and spheres at their level of detail, back faces included, and
+    /// `screenNodes` the skeleton nodes in drawing-buffer pixels.
     ///
     /// # Errors
     /// Only if the snapshot cannot be converted (not expected).
@@ -477,6 +484,7 @@ impl Viewer {
             surface_format: format!("{:?}", self.renderer.surface_format()),
             sample_count: self.renderer.sample_count(),
             triangles: self.renderer.triangles(),
+            solid_triangles: self.renderer.solid_triangles(),
             view: camera.view.name(),
             width,
             height,
