@@ -36,12 +36,12 @@
 //! reach it as two indexed draws of front faces, not one instance each.
 //!
 //! Cost on headless Chromium's SwiftShader (WebGPU, 1280×800, `npm run
-//! bench -- --frames`): CPU time of the GPU process per frame from 38.1 to
-//! 27.1 ms in `human-panda` (31 242 to 13 537 triangles; 38.8 fps, short of
-//! the 50 fps goal: what is left is mostly pixels; in a quarter of them it
-//! ran at 57 fps) and from 53.9 to 33.3 ms with the iiwa 14's collision
-//! meshes (59 614 to 24 915 triangles, 33.6 fps); the lighter examples run
-//! at 54 to 60 fps. The README gives the whole table and its load.
+//! bench -- --frames`, idle machine): CPU time of the GPU process per frame
+//! from 38.1 to 28.2 ms in `human-panda` (31 242 to 14 714 triangles; 38.5
+//! to 54.0 fps; what is left is mostly pixels: in a quarter of them it ran
+//! at 57 fps) and from 53.9 to 30.3 ms with the iiwa 14's collision meshes
+//! (59 614 to 24 917 triangles; 27.2 to 47.7 fps); every shipped example
+//! runs at 54 to 60 fps. The README gives the whole table and its load.
 
 mod buffers;
 mod flat;
