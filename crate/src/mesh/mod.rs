@@ -29,10 +29,16 @@
 //! - A glTF buffer shorter than its declared `byteLength`, or one that
 //!   cannot be found, refuses the mesh.
 //!
+//! [`simplify`] reduces a mesh to a triangle budget for drawing (quadric
+//! error edge collapse); the fitting never sees it.
+//!
 //! See also [`crate::kinematics::urdf`] (which meshes a URDF names) and
 //! [`crate::fitting`] (volumes fitted to them).
 
 mod gltf_file;
+mod simplify;
+
+pub use simplify::simplify;
 
 use glam::{DAffine3, DVec3};
 
