@@ -37,11 +37,13 @@
 //!
 //! Cost on headless Chromium's SwiftShader (WebGPU, 1280×800, `npm run
 //! bench -- --frames`, idle machine): CPU time of the GPU process per frame
-//! from 38.1 to 28.2 ms in `human-panda` (31 242 to 14 714 triangles; 38.5
-//! to 54.0 fps; what is left is mostly pixels: in a quarter of them it ran
-//! at 57 fps) and from 53.9 to 30.3 ms with the iiwa 14's collision meshes
-//! (59 614 to 24 917 triangles; 27.2 to 47.7 fps); every shipped example
-//! runs at 54 to 60 fps. The README gives the whole table and its load.
+//! from 38.1 to 28.2–36.3 ms in `human-panda` (31 242 to 14 714 triangles;
+//! 38.5 fps before, 42.4 to 54.0 fps in three runs after: the machine's
+//! speed varies; what is left is mostly pixels: in a quarter of them it ran
+//! at 57 fps) and from 53.9 to about 30 ms with the iiwa 14's collision
+//! meshes, drawn simplified (59 614 to 15 857 triangles; 27.2 to 50–53
+//! fps); the other examples run at 59 to 60 fps. The README gives the
+//! whole table and its load.
 
 mod buffers;
 mod flat;
