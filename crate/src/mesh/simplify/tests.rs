@@ -1,7 +1,8 @@
 //! Simplification of a sphere, a flat sheet and a published link mesh:
 //! budgets met, closed surfaces kept closed and wound the same way, borders
 //! kept, and the simplified surface near the original. Natively and under
-//! `wasm-pack test --node`.
+//! `wasm-pack test --node`. Compiled only through `#[cfg(test)] mod tests;`:
+//! its unwraps cannot reach a JavaScript caller.
 
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
