@@ -331,7 +331,7 @@ export function refreshSelected(pg) {
       'rotate z', btn('⟲', 'rotate +15° about z', (s) => rotateShape(s, z, Math.PI / 12)), btn('⟳', 'rotate −15° about z', (s) => rotateShape(s, z, -Math.PI / 12)),
       'x', btn('⟲', 'rotate +15° about x', (s) => rotateShape(s, x, Math.PI / 12))),
     ...(shape.type === 'human' ? humanRows(pg) : []),
-    h('pre', { class: 'hint', id: 'shape-json', style: 'white-space: pre-wrap; margin: 0.2rem 0;' }, JSON.stringify(shape, (k, v) => (typeof v === 'number' ? Number(v.toFixed(4)) : v))),
+    h('pre', { class: 'hint', id: 'shape-json', style: 'white-space: pre-wrap; overflow-wrap: anywhere; margin: 0.2rem 0;' }, JSON.stringify(shape, (k, v) => (typeof v === 'number' ? Number(v.toFixed(4)) : v))),
   );
 }
 

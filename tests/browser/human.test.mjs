@@ -161,6 +161,13 @@ test('a BVH recording plays: the person walks past the arm; a malformed one is r
     assert.ok(p0[1] - p1[1] > 1.0, `the person walks along −y (${p0[1]} → ${p1[1]})`);
     await frames(page, 2);
     await page.screenshot({ path: path.join(artifacts, 'human-bvh-walk-1280x800.png') });
+    // The selected person's JSON (90 keyframes, no spaces) wraps within the panel.
+    const json = await page.evaluate(() => {
+      const app = window.playground.app;
+      const el = app.root.getElementById?.('shape-json') ?? app.root.querySelector('#shape-json');
+      return el && { scroll: el.scrollWidth, client: el.clientWidth, length: el.textContent.length };
+    });
+    assert.ok(json && json.length > 1000 && json.scroll <= json.client, `the shape's JSON overflows: ${JSON.stringify(json)}`);
     assert.deepEqual(errors.filter((e) => !/Frame Time/.test(e)), []);
   } finally {
     await browser.close();
