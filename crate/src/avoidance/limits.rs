@@ -356,6 +356,49 @@ mod tests {
     }
 
     #[test]
+    fn a_box_capped_for_a_stop_time_stops_within_it() {
+        let r = robot("panda");
+        let q = [0.0, 0.0, 0.0, -1.5, 0.0, 1.5, 0.0];
+        let dt = 0.001;
+        for time in [0.004, 0.05, 0.2] {
+            let (mut lo, mut hi) = velocity_box(&r, &q);
+            cap_for_stop_time(&r, time, &mut lo, &mut hi);
+            // The fastest motion the box allows, decelerating at full rate.
+            let mut m = JointMotion::rest(7);
+            for (k, j) in r.joints.iter().enumerate() {
+                m.qdot[k] = hi[k];
+                m.qddot[k] = j.max_acceleration;
+                let cap =
+                    (j.max_acceleration * (time - 2.0 * j.max_acceleration / j.max_jerk)).max(0.0);
+                assert!(lo[k] <= 0.0 && hi[k] >= 0.0 && -lo[k] <= cap && hi[k] <= cap);
+            }
+            let need = braking_time(&r, &m, dt);
+            assert!(
+                need <= time + dt + 1e-12,
+                "{need} s to stop, {time} s allowed"
+            );
+            // And it does stop in that time.
+            let mut t = 0.0;
+            while !m.is_at_rest() {
+                step(&r, &q, &[0.0; 7], &mut m, dt);
+                t += dt;
+                assert!(
+                    t <= 1.1 * need + dt,
+                    "still moving after {t} s (allowed {time} s)"
+                );
+            }
+        }
+        // Too little time for even the acceleration ramps: nothing may move.
+        let (mut lo, mut hi) = velocity_box(&r, &q);
+        cap_for_stop_time(&r, 1e-4, &mut lo, &mut hi);
+        assert!(lo.iter().chain(&hi).all(|v| *v == 0.0));
+        // No obstacle closing in: the box as it was.
+        let (mut lo, mut hi) = velocity_box(&r, &q);
+        cap_for_stop_time(&r, f64::INFINITY, &mut lo, &mut hi);
+        assert_eq!((lo, hi), velocity_box(&r, &q));
+    }
+
+    #[test]
     fn braking_time_covers_a_stop() {
         let r = robot("panda");
         let q = [0.0, 0.0, 0.0, -1.5, 0.0, 1.5, 0.0];
