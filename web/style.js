@@ -42,8 +42,8 @@ kbd { font: 11px ui-monospace, monospace; border: 1px solid #c9ced8; border-bott
 .plot canvas { width: 100%; height: 100%; min-height: 4.5rem; display: block; }
 .plot-head { display: flex; flex-wrap: wrap; gap: 0.1rem 0.5rem; align-items: baseline; padding: 0.15rem 0.35rem 0; font-size: 12px; }
 .plot-title { font-weight: 600; }
-.legend { display: flex; flex-wrap: wrap; gap: 0 0.2rem; max-height: 2.9em; overflow: auto; }
-.legend .key { font: 12px system-ui, sans-serif; color: #1d2330; background: none; border: 0; padding: 0 0.2rem; cursor: pointer; display: inline-flex; gap: 0.25rem; align-items: center; }
+.legend { display: flex; flex-wrap: wrap; gap: 0 0.2rem; max-height: 2.5em; overflow: auto; }
+.legend .key { font: 12px/1.25 system-ui, sans-serif; color: #1d2330; background: none; border: 0; padding: 0 0.2rem; cursor: pointer; display: inline-flex; gap: 0.25rem; align-items: center; }
 .legend .key[aria-pressed=false] { color: #6a7180; text-decoration: line-through; }
 .legend .swatch { width: 0.9em; height: 0.25em; border-radius: 2px; display: inline-block; }
 .log { display: grid; grid-template-rows: auto auto minmax(0, 1fr); min-height: 0; border: 1px solid #e6e9ef; border-radius: 3px; background: #fff; font-size: 12px; }
