@@ -538,6 +538,12 @@ export interface WorldState {
   minClearance: number | null;
   /** The human part at `minClearance`, `id:part`; absent when that pair is not a human's. */
   closestPart?: string;
+  /**
+   * The human part nearest the arm, `id:part`, and its clearance (m), even when
+   * another pair (two of the arm's own links, another obstacle) is closer;
+   * absent when no human is within reach.
+   */
+  closestHuman?: { part: string; distance: number };
   skeleton: { nodes: Vec3[]; segments: SkeletonSegment[] };
   obstacles: { id: string; shape: Shape; parts: Primitive[] }[];
   controlPoints: StateControlPoint[];

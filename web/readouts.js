@@ -84,6 +84,10 @@ export function hudLines(s, running, influence) {
     `min clearance ${Number.isFinite(s.minClearance) ? ms(s.minClearance) : `> ${ms(influence)} (influence)`}${s.closestPart ? `  (${s.closestPart})` : ''}`,
     `time to collision ${ttcText}`,
   ];
+  // The nearest human part, when something else (two of the arm's own
+  // links, another obstacle) is closer and the line above does not name it.
+  const human = s.closestHuman;
+  if (human && human.part !== s.closestPart) lines.push(`nearest human part ${human.part}  ${ms(human.distance)}`);
   for (const u of s.uncertainty ?? []) {
     if (u.switchProbability > 0) lines.push(`${u.obstacle}: switch p ${u.switchProbability.toFixed(2)}  σ ${ms(u.sigma)}`);
   }

@@ -167,12 +167,14 @@ fn a_person_walking_by_with_swinging_arms_starts_no_contact_while_the_arm_moves(
     }))
     .unwrap();
     check("walk by at 1.6 m/s", &s);
-    // The swinging arm is what comes closest, and it is named: the part at
-    // the person's nearest control point (the state's `closestPart` names
-    // a human part only when no pair of the arm's own links is closer, and
-    // the Panda's folded wrist is 8 cm from its upper arm at `Q0`).
+    // The swinging arm is what comes closest, and it is named: the state's
+    // `closestHuman` is the part at the person's nearest control point, at
+    // the same clearance (between transitions), even while two of the arm's own links are closer
+    // (the Panda's folded wrist is 8 cm from its upper arm at `Q0`), when
+    // `closestPart` names no human part.
     let mut w = World::new(s.clone()).unwrap();
     let mut closest = Vec::new();
+    let mut behind_self = 0;
     while w.time() < 3.0 {
         w.step(s.dt);
         let state = w.state();
@@ -181,11 +183,22 @@ fn a_person_walking_by_with_swinging_arms_starts_no_contact_while_the_arm_moves(
             .iter()
             .filter(|c| c.obstacle == "person")
             .min_by(|a, b| a.distance.total_cmp(&b.distance));
-        if let Some(part) = nearest.and_then(|c| c.part.clone()) {
-            closest.push(part);
+        let Some(cp) = nearest else { continue };
+        let human = state.closest_human.as_ref().expect("closestHuman");
+        // No point of the arm is closer than the closest pair; a control
+        // point on its way to a new segment may be farther.
+        assert!(human.distance <= cp.distance + 1e-9, "t {}", state.t);
+        if !cp.transitioning {
+            assert_eq!(Some(&human.part), cp.part.as_ref(), "t {}", state.t);
+            assert!((human.distance - cp.distance).abs() < 1e-9, "t {}", state.t);
         }
+        assert!(human.distance >= state.min_clearance.unwrap() - 1e-12);
+        if state.closest_part.is_none() {
+            behind_self += 1;
+        }
+        closest.push(human.part.clone());
     }
-    assert!(!closest.is_empty());
+    assert!(behind_self > 0, "the arm's own links were never closer");
     assert!(
         closest
             .iter()

@@ -303,6 +303,34 @@ test('cheap readouts: q(), qdot(), clearance(id), controller() agree with state(
   assert.throws(() => w.q(), /this World has been freed/);
 });
 
+test('closestHuman names the person\'s nearest part even while the arm\'s own links are closer', () => {
+  // Without the example's sensing noise, so that the sensed person (which
+  // `clearance` reads) is where the person is.
+  const s = { ...sa.exampleScenario('human-panda'), sensing: undefined };
+  const w = new sa.World(s);
+  try {
+    let seen = 0;
+    let behindSelf = 0;
+    for (let k = 0; k < 10; k++) {
+      w.advance(s.dt, 250);
+      const st = w.state();
+      if (!st.closestHuman) continue;
+      seen += 1;
+      assert.match(st.closestHuman.part, /^person:[a-zA-Z]+$/);
+      assert.ok(st.closestHuman.distance >= st.minClearance - 1e-12, JSON.stringify(st.closestHuman));
+      // The state's pairs are measured at the start of the last step and
+      // clearance() after it: they differ by one step's motion at most (the
+      // person walks 0.6 mm a step, the arm's volumes less).
+      assert.ok(Math.abs(st.closestHuman.distance - w.clearance('person')) < 1e-3, `t ${st.t}`);
+      if (st.closestPart === undefined) behindSelf += 1;
+      else assert.equal(st.closestPart, st.closestHuman.part);
+    }
+    assert.ok(seen > 0 && behindSelf > 0, `seen ${seen}, behind the arm's own links ${behindSelf}`);
+  } finally {
+    w.free();
+  }
+});
+
 test('[Symbol.dispose] frees a World once: disposing a freed World does nothing', () => {
   const w = new sa.World({ robot: { preset: 'planar3' }, obstacles: [], dt: 0.001, duration: 1 });
   w.free();

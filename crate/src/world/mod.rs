@@ -59,8 +59,8 @@ mod uncertainty;
 use obstacles::ObstacleState;
 pub use probe::{GuardedPair, StepProbe};
 pub use state::{
-    ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick, SkeletonState,
-    Uncertainty, WorldState,
+    ClosestHuman, ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick,
+    SkeletonState, Uncertainty, WorldState,
 };
 use track::Tracker;
 pub use uncertainty::Risk;
@@ -131,6 +131,9 @@ pub struct World {
     /// The human part (`id:part`) of the pair at `min_clearance`, if a
     /// human's.
     closest_part: Option<String>,
+    /// The human part (`id:part`) nearest the arm and its clearance (m),
+    /// whatever pair is closest overall.
+    closest_human: Option<(String, f64)>,
     time_to_collision: Option<f64>,
     /// Per obstacle, the factor on the arm's allowed approach speed when a
     /// transition plus braking would not end before contact (1: none).
@@ -233,6 +236,7 @@ impl World {
             points: Vec::new(),
             min_clearance: None,
             closest_part: None,
+            closest_human: None,
             time_to_collision: None,
             slowdown: Vec::new(),
             active: Vec::new(),

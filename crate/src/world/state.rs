@@ -111,6 +111,16 @@ pub struct Uncertainty {
     pub part_margins: Option<std::collections::BTreeMap<String, f64>>,
 }
 
+/// The human part nearest the arm ([`WorldState::closest_human`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ClosestHuman {
+    /// `id:part`, e.g. `person:leftHand`.
+    pub part: String,
+    /// Its clearance to the arm's volumes (m, true poses).
+    pub distance: f64,
+}
+
 /// Everything a viewer needs after a step (serde, camelCase).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "camelCase")]
@@ -130,6 +140,11 @@ pub struct WorldState {
     /// (`person:rightHand`; absent when the closest pair is not a human's).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub closest_part: Option<String>,
+    /// The human part nearest the arm and its clearance, among pairs within
+    /// reach, even when another pair (two of the arm's own links, another
+    /// obstacle) is closer (absent when no human is within reach).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closest_human: Option<ClosestHuman>,
     /// The skeleton at `q`.
     pub skeleton: SkeletonState,
     /// Obstacles at their current pose.
@@ -257,6 +272,13 @@ impl World {
             qddot: self.motion.qddot.clone(),
             min_clearance: self.min_clearance,
             closest_part: self.closest_part.clone(),
+            closest_human: self
+                .closest_human
+                .as_ref()
+                .map(|(part, distance)| ClosestHuman {
+                    part: part.clone(),
+                    distance: *distance,
+                }),
             skeleton: SkeletonState {
                 nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
                 segments: sk

@@ -129,10 +129,19 @@ impl World {
             .iter()
             .min_by(|a, b| a.distance.total_cmp(&b.distance));
         self.min_clearance = closest.map(|p| p.distance);
-        self.closest_part = closest.and_then(|p| match p.target {
+        let part = |p: &PairDistance| match p.target {
             Target::Obstacle { id, .. } => self.scene_part_name(id as usize),
             Target::Segment(_) => None,
-        });
+        };
+        let closest_part = closest.and_then(part);
+        let closest_human = exact
+            .as_ref()
+            .unwrap_or(&pairs)
+            .iter()
+            .filter_map(|p| part(p).map(|name| (name, p.distance)))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        self.closest_part = closest_part;
+        self.closest_human = closest_human;
         Ok(pairs)
     }
 
