@@ -353,6 +353,8 @@ export interface Controller {
   maxRepulsionSpeed?: number | undefined;
   transitionTime?: number | undefined;
   jumpThreshold?: number | undefined;
+  /** How much closer (m) another segment must come before a perObstacle point leaves its own (default 0). */
+  switchHysteresis?: number | undefined;
   activationBand?: number | undefined;
   taskGain?: number | undefined;
   /** One positive weight per joint (eq. 4's W). */

@@ -190,3 +190,31 @@ fn human_panda_joints_never_reverse_at_speed() {
         100.0 * worst
     );
 }
+
+#[test]
+fn human_panda_keeps_working_with_a_switch_hysteresis_of_twice_its_sensing_bound() {
+    // The person stands where two segments are equally close; under the
+    // example's 1 cm sensing noise the paper's rule (always the closest)
+    // flips the control point between them every few steps and the monitor
+    // stops the arm for good. With `switchHysteresis` 0.02 the point stays.
+    let run = |h: f64| {
+        let mut s = skeleton_avoidance::scenario::example("human-panda").unwrap();
+        assert_eq!(s.controller.switch_hysteresis, 0.02);
+        s.controller.switch_hysteresis = h;
+        s.duration = 8.0;
+        let trace = skeleton_avoidance::world::simulate(&s).unwrap();
+        let count = |f: fn(&EventKind) -> bool| trace.events.iter().filter(|e| f(&e.kind)).count();
+        (
+            count(|k| matches!(k, EventKind::SegmentSwitch { .. })),
+            count(|k| matches!(k, EventKind::Stop { .. })),
+        )
+    };
+    let (switches, stops) = run(0.02);
+    assert!(switches <= 2, "{switches} switches");
+    assert_eq!(stops, 0);
+    let (switches, stops) = run(0.0);
+    assert!(
+        switches > 100 && stops >= 1,
+        "{switches} switches, {stops} stops"
+    );
+}

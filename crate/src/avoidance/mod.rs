@@ -166,6 +166,11 @@ pub struct ControllerConfig {
     /// Largest move along the skeleton a control point makes without a
     /// transition (m, ≥ 0; default 0.02).
     pub jump_threshold: f64,
+    /// How much closer (m, ≥ 0; default 0: always the closest, as in the
+    /// paper) another segment must come to an obstacle before a
+    /// `perObstacle` control point leaves its segment for it (see
+    /// [`selection`]).
+    pub switch_hysteresis: f64,
     /// Fraction of the influence distance over which an avoidance row fades
     /// in (in `(0, 1]`; default 0.5).
     pub activation_band: f64,
@@ -236,6 +241,7 @@ impl Default for ControllerConfig {
             max_repulsion_speed: 0.5,
             transition_time: crate::transition::DEFAULT_TIME_PER_VALUE,
             jump_threshold: crate::transition::DEFAULT_JUMP_THRESHOLD,
+            switch_hysteresis: 0.0,
             activation_band: 0.5,
             task_gain: 5.0,
             damping: DampingConfig::default(),
@@ -273,6 +279,7 @@ impl ControllerConfig {
         non_negative("maxRepulsionSpeed", self.max_repulsion_speed)?;
         positive("transitionTime", self.transition_time)?;
         non_negative("jumpThreshold", self.jump_threshold)?;
+        non_negative("switchHysteresis", self.switch_hysteresis)?;
         positive("activationBand", self.activation_band)?;
         if self.activation_band > 1.0 {
             return Err(FieldError::new("activationBand", "must be ≤ 1"));

@@ -72,7 +72,22 @@ impl World {
         }
         // 3. select
         let margins: Vec<f64> = self.obstacles.iter().map(|o| o.margin).collect();
-        let selected = selection::select(&pairs, &self.owners, &margins, &self.skeleton, &cfg);
+        let following: std::collections::BTreeMap<usize, usize> = self
+            .trackers
+            .iter()
+            .filter_map(|(key, t)| match key {
+                Key::Obstacle(o) => Some((*o, t.mover.selected().segment)),
+                _ => None,
+            })
+            .collect();
+        let selected = selection::select(
+            &pairs,
+            &self.owners,
+            &margins,
+            &following,
+            &self.skeleton,
+            &cfg,
+        );
         // 4.–5. transition and monitor
         self.monitor_switch_risk(&pairs, &selected, &cfg);
         self.track(&selected, &pairs, dt, &cfg)?;
