@@ -38,8 +38,10 @@
 //! Cost on headless Chromium's SwiftShader (WebGPU, 1280×800, `npm run
 //! bench -- --frames`, idle machine): CPU time of the GPU process per frame
 //! from 38.1 to 26.8–29.8 ms in `human-panda` (31 242 to 14 713 triangles;
-//! 38.5 fps before, 47.1 to 58.3 fps in four runs after, at the edge of
-//! the 50 fps goal: the machine's speed varies by a quarter between runs)
+//! 38.5 fps before; 52.7 to 58.3 fps in three runs while the chattering
+//! monitor held its arm stopped, 45.8 and 47.1 since the arm keeps
+//! working, short of the 50 fps goal; the machine's speed varies by a
+//! quarter between runs)
 //! and from 53.9 to
 //! 27–29 ms with the iiwa 14's collision meshes, drawn simplified (59 614
 //! to 15 856 triangles; 27.2 to 51.4–58.7 fps); the other examples run at
