@@ -72,14 +72,19 @@ impl World {
         }
         // 3. select
         let margins: Vec<f64> = self.obstacles.iter().map(|o| o.margin).collect();
-        let following: std::collections::BTreeMap<usize, usize> = self
-            .trackers
-            .iter()
-            .filter_map(|(key, t)| match key {
-                Key::Obstacle(o) => Some((*o, t.mover.selected().segment)),
-                _ => None,
-            })
-            .collect();
+        // The segments the perObstacle points follow, read only with a
+        // hysteresis (an empty map allocates nothing on this hot path).
+        let following: std::collections::BTreeMap<usize, usize> = if cfg.switch_hysteresis > 0.0 {
+            self.trackers
+                .iter()
+                .filter_map(|(key, t)| match key {
+                    Key::Obstacle(o) => Some((*o, t.mover.selected().segment)),
+                    _ => None,
+                })
+                .collect()
+        } else {
+            std::collections::BTreeMap::new()
+        };
         let selected = selection::select(
             &pairs,
             &self.owners,
