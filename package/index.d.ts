@@ -422,6 +422,21 @@ export interface Scenario {
   dt: number;
   duration: number;
   sampleEvery?: number | undefined;
+  /** How viewers should look at it (the simulation ignores it; the playground and the element apply it on load). */
+  camera?: ScenarioCamera | undefined;
+}
+
+/**
+ * A scenario's view: a direction and the points a fit keeps on screen, not a
+ * fixed eye, so that it holds at any size and aspect.
+ */
+export interface ScenarioCamera {
+  /** Azimuth of the eye about z (rad; 0: on the +x side, π/2: on the +y side; default −0.6). */
+  yaw?: number | undefined;
+  /** Elevation of the eye (rad, within ±1.55; default 0.5). */
+  pitch?: number | undefined;
+  /** World points (m) that `fit` keeps on screen besides the robot and the obstacles within its reach (at most 64). */
+  frame?: Vec3[] | undefined;
 }
 
 // ---- traces and state ----
@@ -786,6 +801,8 @@ export interface ViewerState {
   sampleCount: number;
   triangles: number;
   view: Exclude<ViewName, 'auto'>;
+  /** Eye azimuth and elevation (rad), distance to the target (m), the target (m, world frame). */
+  camera: { yaw: number; pitch: number; distance: number; target: Vec3 };
   width: number;
   height: number;
   dof: number;
@@ -837,6 +854,8 @@ export class Viewer {
   setJoints(q: JointVector): void;
   setDisplay(display: ViewerDisplay): void;
   setView(name: ViewName): void;
+  /** Applies a scenario's `camera` (after `setRobot`, which resets it; before `fit`, which frames its points). */
+  setCamera(camera: ScenarioCamera): void;
   orbit(dx: number, dy: number): void;
   pan(dx: number, dy: number): void;
   /** Multiplies the camera distance by `factor` (> 1 zooms out). */

@@ -77,6 +77,8 @@ const withMeshes = (page, files) => page.evaluate(({ xml, meshes, tip }) => {
   if (fit.problems.length) throw new Error(fit.problems.join('; '));
   if (app.loadScenario({ ...app.scenario, robot: fit.robot }, 'with meshes')) throw new Error('the scenario with the URDF robot was refused');
   app.viewer.setUrdf(xml, options);
+  // setUrdf sets a robot, which resets the camera: the scenario's again.
+  if (app.scenario.camera) app.viewer.setCamera(app.scenario.camera);
   app.drawWorld();
   app.fit();
 }, files);

@@ -239,11 +239,18 @@ export class Playground {
       spec = this.robotSpecOf(scenario.robot);
       robotSet = true;
       this.viewer.setRobot(spec);
+      // The direction and the points the scenario asks to be seen from
+      // (checked with the world above); `fit` below applies the points.
+      if (scenario.camera) this.viewer.setCamera(scenario.camera);
     } catch (err) {
       world?.free();
       if (this.scenario && robotSet) {
-        // Back to the current robot and its world in the view.
-        this.guard(() => { this.viewer.setRobot(this.robotSpec); this.drawWorld(); });
+        // Back to the current robot, its camera and its world in the view.
+        this.guard(() => {
+          this.viewer.setRobot(this.robotSpec);
+          if (this.scenario.camera) this.viewer.setCamera(this.scenario.camera);
+          this.drawWorld();
+        });
       }
       const message = `The ${label} could not be loaded; the current scene is unchanged.\n${errorText(err)}`;
       this.showError(message);

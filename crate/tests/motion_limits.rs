@@ -103,6 +103,7 @@ fn obstacles_approaching_every_link_of_every_preset() {
                 dt: 0.001,
                 duration: 2.0,
                 sample_every: 1,
+                camera: None,
             };
             check(
                 &format!("{name} segment {k} @ {speed:.1} m/s"),
@@ -138,6 +139,7 @@ fn sudden_obstacles_and_obstacles_at_a_node() {
                 dt: 0.001,
                 duration: 1.5,
                 sample_every: 1,
+                camera: None,
             };
             // Towards the node at 0.3 m/s.
             let s = base(sphere("ball", p + side * 0.4, 0.04, -side * 0.3));
@@ -238,6 +240,7 @@ fn a_sliding_point_holds_its_reference_only_with_the_moving_point_terms() {
             dt: 0.001,
             duration: 1.5,
             sample_every: 1,
+            camera: None,
         };
         s.controller.moving_point_terms = terms;
         s.controller.task_gain = 20.0;
@@ -327,6 +330,7 @@ fn weights_shift_motion(avoidance: Avoidance) {
             dt: 0.001,
             duration: 0.05,
             sample_every: 1,
+            camera: None,
         };
         s.controller.joint_weights = w;
         s.controller.avoidance = avoidance;
@@ -372,6 +376,7 @@ fn each_arm_of_the_torso_reaches_its_own_goal() {
         dt: 0.001,
         duration: 3.0,
         sample_every: 1,
+        camera: None,
     };
     let trace = simulate(&s).unwrap();
     check("dual-arm two goals", &robot, &trace);

@@ -349,3 +349,132 @@ fn a_noisy_control_point_shows_its_witness_interval_along_its_segment() {
             .all(|c| c.color != style::WITNESS_INTERVAL)
     );
 }
+
+#[test]
+fn a_sensed_person_has_a_margin_only_around_the_parts_control_points_answer() {
+    use skeleton_avoidance::view::UNCERTAINTY;
+    let margins = |state: &DrawState| {
+        let mut scene = Scene::new();
+        build_scene(&mut scene, state, &options(), None, [0.0; 3]);
+        count(solid_colors(&scene), &[UNCERTAINTY])
+    };
+    // human-panda senses its person with 1 cm error. At the start the
+    // person is out of the influence distance: no control point, no margin.
+    let far = DrawState::from(world_after("human-panda", 0).state());
+    assert!(far.control_points.is_empty());
+    assert!(!far.uncertainty.is_empty());
+    assert_eq!(margins(&far), 0);
+    // At 5 s the arm works beside the person: one margin per part answered.
+    let near = DrawState::from(world_after("human-panda", 2500).state());
+    let mut answered: Vec<_> = near
+        .control_points
+        .iter()
+        .filter_map(|c| c.part.clone())
+        .collect();
+    answered.sort();
+    answered.dedup();
+    assert!(
+        !answered.is_empty(),
+        "no control point answers the person at 5 s"
+    );
+    assert!(answered.iter().all(|p| p.starts_with("person:")));
+    assert_eq!(margins(&near), answered.len());
+    // The state's `part` names the part whose inflated figure is drawn.
+    let person = near.obstacles.iter().find(|o| o.human).unwrap();
+    let mut scene = Scene::new();
+    build_scene(&mut scene, &near, &options(), None, [0.0; 3]);
+    for name in &answered {
+        let k = skeleton_avoidance::human::PART_NAMES
+            .iter()
+            .position(|n| format!("person:{n}") == *name)
+            .unwrap();
+        let near = |a: [f64; 3], b: [f32; 3]| {
+            DVec3::from(a).distance(glam::Vec3::from(b).as_dvec3()) < 1e-5
+        };
+        let drawn = match &person.parts[k] {
+            PrimitiveSpec::TaperedCapsule(c) => scene
+                .capsules
+                .iter()
+                .any(|m| m.color == UNCERTAINTY && near(c.a, m.a) && near(c.b, m.b)),
+            PrimitiveSpec::Capsule(c) => scene
+                .capsules
+                .iter()
+                .any(|m| m.color == UNCERTAINTY && near(c.a, m.a) && near(c.b, m.b)),
+            PrimitiveSpec::Sphere(c) => scene
+                .spheres
+                .iter()
+                .any(|m| m.color == UNCERTAINTY && near(c.center, m.center)),
+            other => panic!("{name}: {other:?}"),
+        };
+        assert!(drawn, "{name}: its margin is not drawn around it");
+    }
+    // A single sensed obstacle keeps its margin with or without a control point.
+    let blob = DrawState::from(world_after("chattering", 0).state());
+    assert!(!blob.uncertainty.is_empty());
+    assert!(margins(&blob) >= 1);
+}
+
+#[test]
+fn a_scenario_camera_sets_the_direction_and_a_fit_keeps_its_points_in_view() {
+    let scenario = scenario::example("human-panda").unwrap();
+    let spec = scenario.camera.clone().expect("human-panda has a camera");
+    let world = World::new(scenario).unwrap();
+    let mut stage = Stage::new(None);
+    stage.set_robot(world.robot().clone()).unwrap();
+    stage.set_camera(&spec).unwrap();
+    let camera = stage.camera();
+    assert!((f64::from(camera.yaw) - spec.yaw.unwrap()).abs() < 1e-6);
+    assert!((f64::from(camera.pitch) - spec.pitch.unwrap()).abs() < 1e-6);
+    // At t = 0 the person is out of reach: only the camera's points bring
+    // the place where they will stand into the frame.
+    let state = DrawState::from(world.state());
+    let reach_points = skeleton_avoidance::view::fit_points(&state, &stage.reach());
+    assert_eq!(reach_points.len(), state.skeleton.nodes.len());
+    stage.draw(state);
+    for (aspect, fill) in [(1.6, 0.85), (0.5, 0.9)] {
+        stage.fit(fill, aspect);
+        let (w, h) = (100.0 * aspect, 100.0);
+        let on_screen = |p: [f64; 3]| {
+            let [x, y] = stage
+                .camera()
+                .project(DVec3::from(p).as_vec3(), w, h)
+                .unwrap();
+            (0.0..=w).contains(&x) && (0.0..=h).contains(&y)
+        };
+        for p in spec.frame.iter().chain(&reach_points) {
+            assert!(on_screen(*p), "{aspect}: {p:?} off screen");
+        }
+    }
+    // A refused camera leaves the stage as it was.
+    let before = *stage.camera();
+    let bad = skeleton_avoidance::scenario::CameraSpec {
+        pitch: Some(2.0),
+        ..spec.clone()
+    };
+    let e = stage.set_camera(&bad).unwrap_err();
+    assert!(
+        e.to_string().starts_with("pitch: must be within ±1.55"),
+        "{e}"
+    );
+    assert_eq!(*stage.camera(), before);
+    // A new robot starts from the default direction with no points of its own.
+    stage.set_robot(world.robot().clone()).unwrap();
+    let default = skeleton_avoidance::view::Camera::default();
+    assert_eq!(
+        (stage.camera().yaw, stage.camera().pitch),
+        (default.yaw, default.pitch)
+    );
+    stage.fit(0.85, 1.6);
+    let far = stage
+        .camera()
+        .project(DVec3::from(spec.frame[0]).as_vec3(), 160.0, 100.0);
+    let framed_without =
+        far.is_some_and(|[x, y]| (0.0..=160.0).contains(&x) && (0.0..=100.0).contains(&y));
+    // Without the points, the robot alone is framed: the place where the
+    // person will stand is not guaranteed in view (and from the default
+    // direction it is not).
+    assert!(
+        !framed_without,
+        "the person's place is framed without the camera's points"
+    );
+}

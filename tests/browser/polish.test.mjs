@@ -65,11 +65,24 @@ for (const backend of ['webgpu', 'webgl2']) {
           const s = await state(page);
           const c = robotCover(s);
           assert.ok(c.inside, `${name} ${width}: the robot is inside the view`);
-          // A person standing beside the arm (human-reach) is framed too: a
-          // 1.75 m figure beside a 1 m arm leaves the arm 0.38 of a wide
-          // view and 0.28 of a phone's.
-          const least = name === 'human-reach' ? 0.25 : 0.4;
+          // A person standing beside the arm (human-reach), or where the
+          // scenario's camera says they will stand (human-panda), is framed
+          // too: a 1.75 m figure beside a 1 m arm leaves the arm 0.38 of a
+          // wide view and 0.28 of a phone's.
+          const least = name.startsWith('human-') ? 0.25 : 0.4;
           assert.ok(Math.max(c.w, c.h) >= least, `${name} ${width}: robot covers ${c.w.toFixed(2)} × ${c.h.toFixed(2)} of the view`);
+          // The scenario's camera: its direction, and its points on screen.
+          const camera = await page.evaluate(() => {
+            const app = window.playground.app;
+            const frame = app.scenario.camera?.frame ?? [];
+            return { asked: app.scenario.camera, yaw: s0().camera.yaw, pitch: s0().camera.pitch, frame: frame.map((p) => app.viewer.projectPoint(p)) };
+            function s0() { return app.viewer.state(); }
+          });
+          if (name === 'human-panda') assert.ok(camera.asked, 'human-panda keeps its camera');
+          if (camera.asked) {
+            assert.ok(Math.abs(camera.yaw - camera.asked.yaw) < 1e-6 && Math.abs(camera.pitch - camera.asked.pitch) < 1e-6, `${name}: ${JSON.stringify(camera)}`);
+            assert.ok(camera.frame.length > 0 && camera.frame.every((p) => p && p[0] >= 0 && p[1] >= 0 && p[0] <= s.width && p[1] <= s.height), `${name} ${width}: the camera's points are on screen: ${JSON.stringify(camera.frame)}`);
+          }
           // No skeleton node is hidden under the stats or the HUD.
           const covers = await overlayRects(page);
           const hidden = s.screenNodes.filter(Boolean).filter(([x, y]) => covers.some((r) => x >= r.x && x <= r.x + r.width && y >= r.y && y <= r.y + r.height));

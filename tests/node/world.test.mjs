@@ -82,6 +82,17 @@ test('scenario errors name the JSON path and the reason', () => {
   assert.throws(() => sa.simulate([1, 2]), /scenario: expected an object/);
 });
 
+test('a scenario camera is checked with the scenario and ignored by the simulation', () => {
+  const base = () => ({ robot: { preset: 'lwr4' }, obstacles: [], dt: 0.001, duration: 0.01 });
+  assert.throws(() => new sa.World({ ...base(), camera: { pitch: 2 } }), { message: 'camera.pitch: must be within ±1.55 rad (got 2)' });
+  assert.throws(() => new sa.World({ ...base(), camera: { frame: [[0, 0, 'x']] } }), /^Error: camera\.frame\[0\]\[2\]/);
+  assert.throws(() => new sa.World({ ...base(), camera: { zoom: 2 } }), /camera.*zoom/);
+  const withCamera = { ...base(), camera: { yaw: -1.3, pitch: 0.4, frame: [[0.85, 0, 1.5]] } };
+  assert.deepEqual(sa.simulate(withCamera).samples.map((s) => s.q), sa.simulate(base()).samples.map((s) => s.q));
+  // The shipped human-panda example carries one.
+  assert.deepEqual(sa.exampleScenario('human-panda').camera, { yaw: -1.3, pitch: 0.4, frame: [[0.85, 0, 1.5]] });
+});
+
 test('a World steps, reports its state and accepts edits', () => {
   const w = new sa.World(sa.exampleScenario('lwr4-elbow'));
   w.advance(0.001, 16);

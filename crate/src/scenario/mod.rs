@@ -22,6 +22,7 @@ use crate::dependability::DependabilityConfig;
 use crate::error::{FieldError, positive};
 use crate::kinematics::{Robot, RobotSpec, presets};
 
+mod camera;
 mod examples;
 mod obstacle;
 mod sensing;
@@ -29,6 +30,7 @@ mod tagged;
 mod task;
 mod trace;
 
+pub use camera::{CameraSpec, MAX_FRAME_POINTS, MAX_PITCH};
 pub use examples::{EXAMPLE_NAMES, example, example_json};
 pub use obstacle::{
     HumanSpec, Motion, ObstacleSpec, ShapeSpec, primitives, reference_point, translated, unit_quat,
@@ -159,6 +161,9 @@ pub struct Scenario {
     /// Steps between two trace samples (≥ 1; default 1).
     #[serde(default = "one")]
     pub sample_every: usize,
+    /// How viewers should look at it (the simulation ignores it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<CameraSpec>,
 }
 
 fn one() -> usize {
@@ -245,6 +250,9 @@ impl Scenario {
         self.dependability
             .validate()
             .map_err(|e| e.within("dependability"))?;
+        if let Some(c) = &self.camera {
+            c.validate().map_err(|e| e.within("camera"))?;
+        }
         Ok(())
     }
 }

@@ -15,6 +15,7 @@ use super::meshes::{LinkMesh, draw_meshes};
 use super::scene::{Grid, Scene};
 use crate::error::FieldError;
 use crate::kinematics::Robot;
+use crate::scenario::CameraSpec;
 use crate::skeleton::Skeleton;
 
 /// What can be switched on and off in the drawing (`setDisplay`).
@@ -86,6 +87,8 @@ pub struct Stage {
     reach: Reach,
     /// The robot's link meshes, in the frames of their rows.
     meshes: Vec<LinkMesh>,
+    /// Points a fit keeps on screen besides the robot ([`Stage::set_camera`]).
+    framed: Vec<DVec3>,
     dirty: bool,
 }
 
@@ -111,6 +114,7 @@ impl Stage {
                 radius: 1.0,
             },
             meshes: Vec::new(),
+            framed: Vec::new(),
             dirty: true,
         }
     }
@@ -137,6 +141,7 @@ impl Stage {
         self.frames = f.transforms;
         self.robot = Some(robot);
         self.meshes.clear();
+        self.framed.clear();
         self.q = q;
         self.world = None;
         self.dirty = true;
@@ -221,6 +226,26 @@ impl Stage {
         self.dirty = true;
     }
 
+    /// Applies a scenario's camera: its yaw and pitch (those given; the 2D
+    /// views keep their axis) and the points later fits keep on screen
+    /// (replacing earlier ones). [`Stage::set_robot`] resets both.
+    ///
+    /// # Errors
+    /// [`CameraSpec::validate`]'s (`pitch: must be within ±1.55 rad …`);
+    /// the stage is then unchanged.
+    pub fn set_camera(&mut self, spec: &CameraSpec) -> Result<(), FieldError> {
+        spec.validate()?;
+        if let Some(yaw) = spec.yaw {
+            self.camera.yaw = yaw as f32;
+        }
+        if let Some(pitch) = spec.pitch {
+            self.camera.pitch = pitch as f32;
+        }
+        self.framed = spec.frame.iter().map(|p| DVec3::from(*p)).collect();
+        self.dirty = true;
+        Ok(())
+    }
+
     /// The camera.
     #[must_use]
     pub fn camera(&self) -> &Camera {
@@ -262,13 +287,18 @@ impl Stage {
         self.dirty = true;
     }
 
-    /// What a fit frames: the skeleton and the obstacles within reach.
+    /// What a fit frames: the skeleton, the obstacles within reach and the
+    /// points of [`Stage::set_camera`].
     fn fit_points(&self) -> Vec<Vec3> {
         let points = match &self.world {
             Some(world) => fit_points(world, &self.reach),
             None => self.drawn_nodes(),
         };
-        points.iter().map(|p| DVec3::from(*p).as_vec3()).collect()
+        let points = points.iter().map(|p| DVec3::from(*p));
+        points
+            .chain(self.framed.iter().copied())
+            .map(|p| p.as_vec3())
+            .collect()
     }
 
     /// The robot's reach (the ball framed by [`Stage::set_robot`]).

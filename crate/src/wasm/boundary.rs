@@ -221,6 +221,7 @@ const VIEWER_ARGS: &[(&str, &[&str])] = &[
     ("setJoints", &["q"]),
     ("setDisplay", &["display"]),
     ("setView", &["name"]),
+    ("setCamera", &["camera"]),
     ("orbit", &["dx:number", "dy:number"]),
     ("pan", &["dx:number", "dy:number"]),
     ("zoom", &["factor:number"]),

@@ -45,6 +45,9 @@ struct ViewerState {
     /// back faces included (what the level of detail alone decides).
     solid_triangles: u64,
     view: &'static str,
+    /// The camera: eye azimuth and elevation (rad), distance to the target
+    /// (m) and the target (m, world frame).
+    camera: CameraState,
     width: u32,
     height: u32,
     dof: usize,
@@ -54,6 +57,15 @@ struct ViewerState {
     /// The same nodes in drawing-buffer pixels from the top-left corner
     /// (`null` when behind the eye).
     screen_nodes: Vec<Option<[f32; 2]>>,
+}
+
+/// The camera in `state()`.
+#[derive(Debug, Serialize)]
+struct CameraState {
+    yaw: f64,
+    pitch: f64,
+    distance: f64,
+    target: [f64; 3],
 }
 
 /// A picking ray (m, world frame).
@@ -338,6 +350,22 @@ impl Viewer {
         Ok(())
     }
 
+    /// Applies a scenario's `camera`: `{ yaw?, pitch?, frame? }` (rad, rad,
+    /// world points in m that `fit` keeps on screen besides the robot;
+    /// `docs/scenarios.md`). Call it after `setRobot`, which resets both,
+    /// and before `fit`.
+    ///
+    /// # Errors
+    /// An `Error` naming the field (`camera.pitch: must be within ±1.55 rad
+    /// (got 2)`); the camera is then unchanged.
+    #[wasm_bindgen(js_name = setCamera)]
+    pub fn set_camera(&mut self, camera: JsValue) -> Result<(), JsError> {
+        let spec: crate::scenario::CameraSpec = object_from_js("camera", camera)?;
+        self.stage
+            .set_camera(&spec)
+            .map_err(|e| js_error(&e.within("camera")))
+    }
+
     /// The current view's name.
     #[wasm_bindgen(getter)]
     pub fn view(&self) -> String {
@@ -486,6 +514,12 @@ impl Viewer {
             triangles: self.renderer.triangles(),
             solid_triangles: self.renderer.solid_triangles(),
             view: camera.view.name(),
+            camera: CameraState {
+                yaw: f64::from(camera.yaw),
+                pitch: f64::from(camera.pitch),
+                distance: f64::from(camera.distance),
+                target: camera.target.as_dvec3().to_array(),
+            },
             width,
             height,
             dof: self.stage.q().len(),

@@ -562,6 +562,7 @@ pub fn control_step_workload(obstacles: usize) -> Result<World, ScenarioError> {
         dt: 0.001,
         duration: 4.0,
         sample_every: 1,
+        camera: None,
     };
     World::new(scenario)
 }
