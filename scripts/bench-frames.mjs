@@ -3,10 +3,14 @@
 // SwiftShader), 1280×800, running. Per example and backend: the median over
 // a few windows of the frames per second, the 90th percentile of the frame
 // interval, the CPU time Chromium's GPU process spent per frame (Linux
-// only: read from /proc) and the triangles drawn. An example on the Panda
+// only: read from /proc), the playground's own work per frame on the
+// page's thread (its steps and drawing calls, from its stats) and the
+// triangles drawn. An example on the Panda
 // or UR5 preset is measured once its meshes are drawn (the playground
 // fetches them, web/preset-meshes.js). Then a heavier mesh, the iiwa 14's,
-// in the human-panda scene (MESH_ROWS). The load average is
+// in the human-panda scene (MESH_ROWS). First comes a reference row: a
+// cleared WebGPU canvas of the same size alone, the ceiling that this
+// machine and browser set whatever the playground does. The load average is
 // printed beside the table: the machine is shared. A frame rate depends on
 // the machine: this is a measurement with a goal beside it, not a test.
 import fs from 'node:fs';
@@ -98,6 +102,16 @@ async function measure(page, url, name, backend, files = null) {
     }, null, { timeout: 60000 });
   }
   await page.waitForTimeout(1000);
+  const m = await sample(page);
+  const { triangles, pageMs } = await page.evaluate(() => {
+    const { stepMs, drawMs } = window.playground.app.stats;
+    return { triangles: window.playground.state().triangles, pageMs: stepMs + drawMs };
+  });
+  return { ...m, triangles, pageMs };
+}
+
+/** `{ fps, p90, gpuMs }` of the page as it runs: medians over the windows. */
+async function sample(page) {
   const fps = [];
   const p90 = [];
   const gpuMs = [];
@@ -110,8 +124,47 @@ async function measure(page, url, name, backend, files = null) {
     p90.push(gaps[Math.floor(0.9 * gaps.length)]);
     if (cpu0 !== null) gpuMs.push((1000 * (cpu1 - cpu0)) / gaps.length);
   }
-  const triangles = await page.evaluate(() => window.playground.state().triangles);
-  return { fps: median(fps), p90: median(p90), gpuMs: gpuMs.length ? median(gpuMs) : NaN, triangles };
+  return { fps: median(fps), p90: median(p90), gpuMs: gpuMs.length ? median(gpuMs) : NaN };
+}
+
+/**
+ * The ceiling that the machine and the browser set: a WebGPU canvas of the
+ * playground's view size (read from the page) that is only cleared each
+ * frame, on a page that holds nothing else and loads no wasm. What an
+ * example costs beyond it is the playground's.
+ */
+async function measureReference(page, url) {
+  await page.goto(`${url}?scenario=planar-transition&backend=webgpu&paused`);
+  await page.evaluate(() => window.playground.ready);
+  const { width, height } = await page.evaluate(() => window.playground.state());
+  // Any page of the server's origin: WebGPU needs a secure context.
+  await page.goto(`${url}reference-canvas`);
+  const ok = await page.evaluate(async ({ width, height }) => {
+    const adapter = await navigator.gpu?.requestAdapter();
+    if (!adapter) return false;
+    const device = await adapter.requestDevice();
+    document.body.replaceChildren();
+    document.body.style.margin = '0';
+    const canvas = document.createElement('canvas');
+    Object.assign(canvas, { width, height });
+    canvas.style.cssText = `display:block;width:${width}px;height:${height}px`;
+    document.body.append(canvas);
+    const context = canvas.getContext('webgpu');
+    context.configure({ device, format: 'rgba8unorm', alphaMode: 'opaque' });
+    const frame = () => {
+      const encoder = device.createCommandEncoder();
+      encoder.beginRenderPass({
+        colorAttachments: [{ view: context.getCurrentTexture().createView(), loadOp: 'clear', storeOp: 'store', clearValue: { r: 0.95, g: 0.96, b: 0.98, a: 1 } }],
+      }).end();
+      device.queue.submit([encoder.finish()]);
+      requestAnimationFrame(frame);
+    };
+    requestAnimationFrame(frame);
+    return true;
+  }, { width, height });
+  if (!ok) return null;
+  await page.waitForTimeout(1000);
+  return { ...(await sample(page)), size: `${width}×${height}` };
 }
 
 const loadAverage = () => os.loadavg().map((x) => x.toFixed(2)).join(' ');
@@ -125,9 +178,15 @@ export async function frameTable(examples) {
   try {
     const page = await browser.context.newPage();
     console.log('\n=== playground frame rate: headless Chromium, software rendering (SwiftShader), 1280×800, running');
-    console.log(`(median of ${WINDOWS} windows of ${WINDOW_MS / 1000} s; GPU ms = CPU time of Chromium's GPU process per frame, on two cores)`);
-    console.log(`${'example'.padEnd(20)} ${'backend'.padEnd(8)} ${'fps'.padStart(6)} ${'p90 ms'.padStart(7)} ${'GPU ms'.padStart(7)} ${'triangles'.padStart(10)}  goal`);
+    console.log(`(median of ${WINDOWS} windows of ${WINDOW_MS / 1000} s; GPU ms = CPU time of Chromium's GPU process per frame, on two cores;`);
+    console.log(" page ms = the playground's own work per frame on the page's thread: the steps and the drawing calls)");
+    console.log(`${'example'.padEnd(20)} ${'backend'.padEnd(8)} ${'fps'.padStart(6)} ${'p90 ms'.padStart(7)} ${'GPU ms'.padStart(7)} ${'page ms'.padStart(8)} ${'triangles'.padStart(10)}  goal`);
     const before = loadAverage();
+    const reference = await measureReference(page, url);
+    if (reference) {
+      const r = reference;
+      console.log(`${'empty canvas'.padEnd(20)} ${'webgpu'.padEnd(8)} ${r.fps.toFixed(1).padStart(6)} ${r.p90.toFixed(1).padStart(7)} ${r.gpuMs.toFixed(1).padStart(7)} ${'-'.padStart(8)} ${'0'.padStart(10)}  (reference: the ceiling here, a cleared ${r.size} canvas alone)`);
+    }
     const rows = [
       ...examples.map((name) => ({ name, example: name, files: null })),
       ...MESH_ROWS.map((row) => ({ name: row.name, example: row.example, files: meshRowFiles(row) })),
@@ -136,7 +195,7 @@ export async function frameTable(examples) {
       for (const backend of ['webgpu', 'webgl2']) {
         const m = await measure(page, url, example, backend, files);
         const goal = backend === 'webgpu' ? `≥ 50 fps ${m.fps >= 50 ? '(met)' : '(NOT met)'}` : '(reported)';
-        console.log(`${name.padEnd(20)} ${backend.padEnd(8)} ${m.fps.toFixed(1).padStart(6)} ${m.p90.toFixed(1).padStart(7)} ${m.gpuMs.toFixed(1).padStart(7)} ${String(m.triangles).padStart(10)}  ${goal}`);
+        console.log(`${name.padEnd(20)} ${backend.padEnd(8)} ${m.fps.toFixed(1).padStart(6)} ${m.p90.toFixed(1).padStart(7)} ${m.gpuMs.toFixed(1).padStart(7)} ${m.pageMs.toFixed(1).padStart(8)} ${String(m.triangles).padStart(10)}  ${goal}`);
       }
     }
     console.log(`load average (1, 5, 15 min) before the table: ${before}; after it: ${loadAverage()} on ${os.cpus().length} cores (the measurement itself keeps about two busy; more before it is other work)`);
