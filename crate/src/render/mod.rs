@@ -36,20 +36,15 @@
 //! reach it as two indexed draws of front faces, not one instance each.
 //!
 //! Cost on headless Chromium's SwiftShader (WebGPU, 1280×800, `npm run
-//! bench -- --frames`, idle machine): CPU time of the GPU process per frame
-//! from 38.1 to 26.8–29.8 ms in `human-panda` (31 242 to 14 713 triangles;
-//! 38.5 fps before; 52.7 to 58.3 fps in three runs while the chattering
-//! monitor held its arm stopped, 45.8 and 47.1 since the arm keeps
-//! working, short of the 50 fps goal; the machine's speed varies by a
-//! quarter between runs)
-//! and from 53.9 to
-//! 27–29 ms with the iiwa 14's collision meshes, drawn simplified (59 614
-//! to 15 856 triangles; 27.2 to 51.4–58.7 fps); the other examples run at
-//! 60 fps. What is left is pixels: presenting the canvas costs about 14 ms
-//! whatever is drawn, the translucent volumes and margins about 5.5 and the
-//! floor about 2.5; blending, the interpolation mode, the depth format and
-//! the solids' level of detail each change it by less than the noise. The
-//! README gives the whole table and its load.
+//! bench -- --frames`): placing, lighting and culling on the CPU took the
+//! GPU process's time per frame in `human-panda` from 38.1 to about 27 ms
+//! on the machine of 2026-11-25 (31 242 to 14 713 triangles) and the iiwa
+//! 14 with its simplified meshes from 53.9 to 27–29 ms. On a machine about
+//! half as fast (2026-11-27) a cleared canvas of the view's size alone
+//! costs about 24 ms and `human-panda` about 52, of which much does not
+//! follow the pixels: a quarter of them saved about 9 ms, three quarters
+//! nothing measurable. The README gives the table, with the cleared
+//! canvas as its reference row.
 
 mod buffers;
 mod flat;
