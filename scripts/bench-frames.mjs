@@ -182,9 +182,8 @@ export async function frameTable(examples) {
     console.log(" page ms = the playground's own work per frame on the page's thread: the steps and the drawing calls)");
     console.log(`${'example'.padEnd(20)} ${'backend'.padEnd(8)} ${'fps'.padStart(6)} ${'p90 ms'.padStart(7)} ${'GPU ms'.padStart(7)} ${'page ms'.padStart(8)} ${'triangles'.padStart(10)}  goal`);
     const before = loadAverage();
-    const reference = await measureReference(page, url);
-    if (reference) {
-      const r = reference;
+    const r = await measureReference(page, url);
+    if (r) {
       console.log(`${'empty canvas'.padEnd(20)} ${'webgpu'.padEnd(8)} ${r.fps.toFixed(1).padStart(6)} ${r.p90.toFixed(1).padStart(7)} ${r.gpuMs.toFixed(1).padStart(7)} ${'-'.padStart(8)} ${'0'.padStart(10)}  (reference: the ceiling here, a cleared ${r.size} canvas alone)`);
     }
     const rows = [
