@@ -605,6 +605,43 @@ fn live_edits_move_add_remove_pick_and_reset() {
 }
 
 #[test]
+fn removing_the_obstacles_a_noisy_control_point_answers_keeps_the_state_readable() {
+    // human-panda senses its person with an error: the last step's control
+    // points answer it, and reading the state propagates that error through
+    // them. Removing the person (then everything) between steps, as the
+    // playground does paused, must leave a state that reads and steps.
+    let mut w = World::new(scenario::example("human-panda").unwrap()).unwrap();
+    for _ in 0..2200 {
+        w.step(0.002);
+    }
+    let noisy = |w: &World| {
+        w.state()
+            .control_points
+            .iter()
+            .filter(|c| c.sigma.is_some())
+            .count()
+    };
+    assert!(
+        noisy(&w) > 0,
+        "a control point answers the person, sensed with error"
+    );
+    assert!(
+        !w.guarded().is_empty(),
+        "the protective layer guards the person"
+    );
+    w.remove_obstacle("person").unwrap();
+    assert!(w.guarded().is_empty());
+    assert_eq!(noisy(&w), 0, "nothing noisy is left to answer");
+    w.remove_obstacle("floor").unwrap();
+    let st = w.state();
+    assert!(st.obstacles.is_empty() && st.command_sigma.is_none());
+    for _ in 0..10 {
+        w.step(0.002);
+    }
+    assert!(w.state().q.iter().all(|q| q.is_finite()));
+}
+
+#[test]
 fn events_can_be_read_from_a_cursor() {
     let mut w = World::new(scenario::example("chattering").unwrap()).unwrap();
     for _ in 0..100 {

@@ -52,15 +52,7 @@ impl World {
         // Trackers refer to obstacles by index: renumber.
         let old = std::mem::take(&mut self.trackers);
         for (key, mut tr) in old {
-            let shift = |o: usize| {
-                if o > k {
-                    Some(o - 1)
-                } else if o == k {
-                    None
-                } else {
-                    Some(o)
-                }
-            };
+            let shift = |o: usize| renumber(o, k);
             let new_key = match key {
                 Key::Obstacle(o) => shift(o).map(Key::Obstacle),
                 Key::Pair(o, s) => shift(o).map(|o| Key::Pair(o, s)),
@@ -71,19 +63,20 @@ impl World {
                 self.trackers.insert(nk, tr);
             }
         }
-        self.risky = self
-            .risky
-            .iter()
-            .filter_map(|&o| {
-                if o > k {
-                    Some(o - 1)
-                } else if o == k {
-                    None
-                } else {
-                    Some(o)
+        self.risky = self.risky.iter().filter_map(|&o| renumber(o, k)).collect();
+        // The last step's noisy control points, read with the state: those
+        // answering the removed obstacle answer nothing now.
+        self.sigma_inputs
+            .retain_mut(|input| match renumber(input.owner, k) {
+                Some(o) => {
+                    input.owner = o;
+                    true
                 }
-            })
-            .collect();
+                None => false,
+            });
+        // The protective layer's pairs name scene parts, which renumber
+        // too: the next step guards afresh.
+        self.guard_pairs.clear();
         self.scene_dirty = true;
         Ok(())
     }
@@ -278,5 +271,14 @@ fn merge_json(base: &mut serde_json::Value, patch: &serde_json::Value) {
             }
         }
         (b, p) => *b = p.clone(),
+    }
+}
+
+/// Obstacle index `o` once obstacle `removed` is gone (`None`: it was it).
+fn renumber(o: usize, removed: usize) -> Option<usize> {
+    match o.cmp(&removed) {
+        std::cmp::Ordering::Less => Some(o),
+        std::cmp::Ordering::Equal => None,
+        std::cmp::Ordering::Greater => Some(o - 1),
     }
 }

@@ -67,7 +67,8 @@ impl World {
 
     /// The pairs the protective layer guarded at the last step, with the
     /// speed of the part that approaches and the protective distance it
-    /// asks (empty when the protective layer is off).
+    /// asks (empty when the protective layer is off, and after an obstacle
+    /// is removed until the next step).
     #[must_use]
     pub fn guarded(&self) -> Vec<GuardedPair> {
         let p = self.scenario.controller.protective;

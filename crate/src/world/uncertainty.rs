@@ -240,7 +240,7 @@ impl World {
             gain,
             ..
         } = *input;
-        let o = &self.obstacles[owner];
+        let o = self.obstacles.get(owner)?;
         if o.covariance.is_zero() {
             return None;
         }
