@@ -51,7 +51,9 @@ pub(crate) struct Level {
 /// browsers have, e.g. SwiftShader in headless Chromium) spends its time per
 /// triangle rather than per pixel, so a solid a few pixels across gets few
 /// triangles: each level keeps the silhouette within about 0.75 px of the
-/// true circle (sagitta `r (1 − cos(π/sectors))`) up to its radius.
+/// true circle (sagitta `r (1 − cos(π/sectors))`) up to its radius, and
+/// within about 1.5 px on a software rasteriser, where each level serves
+/// up to twice the radius (`buffers::SOFTWARE_TOLERANCE`).
 pub(crate) const LEVELS: [Level; 3] = [
     Level {
         rings: 3,
