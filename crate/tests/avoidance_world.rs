@@ -642,6 +642,38 @@ fn removing_the_obstacles_a_noisy_control_point_answers_keeps_the_state_readable
 }
 
 #[test]
+fn every_example_reads_and_steps_while_its_obstacles_are_removed_mid_run() {
+    // Removing obstacles renumbers what the last step left behind (its
+    // trackers, noisy control points, guarded pairs): remove each example's
+    // obstacles one by one, first to last and last to first, halfway
+    // through its run (at most 1 500 steps in), reading the state after
+    // each.
+    for name in scenario::EXAMPLE_NAMES {
+        let example = scenario::example(name).unwrap();
+        let ids: Vec<String> = example.obstacles.iter().map(|o| o.id.clone()).collect();
+        for reversed in [false, true] {
+            let mut w = World::new(example.clone()).unwrap();
+            let steps = ((0.5 * example.duration / example.dt) as usize).min(1500);
+            for _ in 0..steps {
+                w.step(example.dt);
+            }
+            let mut order = ids.clone();
+            if reversed {
+                order.reverse();
+            }
+            for (k, id) in order.iter().enumerate() {
+                w.remove_obstacle(id).unwrap();
+                let st = w.state();
+                assert_eq!(st.obstacles.len(), ids.len() - k - 1, "{name}");
+                assert!(w.guarded().is_empty(), "{name}");
+            }
+            w.step(example.dt);
+            assert!(w.state().q.iter().all(|q| q.is_finite()), "{name}");
+        }
+    }
+}
+
+#[test]
 fn events_can_be_read_from_a_cursor() {
     let mut w = World::new(scenario::example("chattering").unwrap()).unwrap();
     for _ in 0..100 {

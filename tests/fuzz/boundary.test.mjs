@@ -42,6 +42,9 @@ const ROBOTS = [
   { convention: 'standard', joints: [{ a: 0.4, alpha: 0, d: 0, theta: 0 }, { a: 0.3, alpha: 0, d: 0, theta: 0, radius: [0.05, 0.03] }] },
 ];
 const Q = { planar3: [0.1, 0.2, 0.3], lwr4: [0, 0.3, 0, -1, 0, 0.5, 0] };
+// Each example's own duration: a fresh World may start anywhere in it (a
+// person beside the arm, control points answering noisy obstacles).
+const DURATIONS = sa.exampleScenarioNames().map((n) => sa.exampleScenario(n).duration);
 const SCENARIOS = sa.exampleScenarioNames().map((n) => {
   const s = sa.exampleScenario(n);
   s.duration = Math.min(s.duration, 20 * s.dt);
@@ -110,7 +113,7 @@ const METHODS = [
   ['advance', (r) => [arg(r, 0.001), arg(r, r.int(5))]],
   ['state', (r) => [r.chance(0.5) ? undefined : arg(r, 0)]],
   ['addObstacle', (r) => [arg(r, { ...OBSTACLE, id: `o${r.int(4)}` })], true],
-  ['removeObstacle', (r) => [arg(r, r.pick(['o0', 'o1', 'ball', 'person']))], true],
+  ['removeObstacle', (r) => [arg(r, r.pick(['o0', 'o1', 'ball', 'person', 'floor']))], true],
   ['setObstacleShape', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, r.pick(PRIMITIVES))], true],
   ['moveObstacle', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, [0.2, 0.1, 0.3])], true],
   ['setController', (r) => [arg(r, CONTROLLER)], true],
@@ -218,7 +221,17 @@ test(`boundary fuzz: every export and World method, seed ${SEED}, ${SECONDS} s`,
     return err === undefined;
   };
 
-  const fresh = () => new sa.World(structuredClone(r.pick(SCENARIOS)));
+  // Half the fresh Worlds start at a random time of their example (up to
+  // 3 000 steps in): the states edits meet mid-run, not only at t = 0.
+  let start = 0;
+  const fresh = () => {
+    const k = r.int(SCENARIOS.length);
+    const scenario = structuredClone(SCENARIOS[k]);
+    const w = new sa.World(scenario);
+    if (r.chance(0.5)) w.advance(scenario.dt, r.int(Math.min(3000, Math.round(DURATIONS[k] / scenario.dt))));
+    start = w.time;
+    return w;
+  };
   let world = fresh();
   const deadline = performance.now() + SECONDS * 1000;
   while ((performance.now() < deadline || stats.calls < MIN_CALLS) && failures.length < 20) {
@@ -242,7 +255,10 @@ test(`boundary fuzz: every export and World method, seed ${SEED}, ${SECONDS} s`,
         fail('World unusable', `World.${name}`, args, e?.message ?? String(e));
         world = fresh();
       }
-      if (world.time > 1) world.reset();
+      if (world.time > start + 1) {
+        world.free();
+        world = fresh();
+      }
     } else if (x < 0.985) {
       call('new World', (s) => new sa.World(s), [arg(r, structuredClone(r.pick(SCENARIOS)))], null);
     } else {
