@@ -648,7 +648,7 @@ fn every_example_reads_and_steps_while_its_obstacles_are_removed_mid_run() {
     // obstacles one by one, first to last and last to first, halfway
     // through its run (at most 1 500 steps in), reading the state after
     // each.
-    for name in scenario::EXAMPLE_NAMES {
+    for name in EXAMPLE_NAMES {
         let example = scenario::example(name).unwrap();
         let ids: Vec<String> = example.obstacles.iter().map(|o| o.id.clone()).collect();
         for reversed in [false, true] {
@@ -669,6 +669,39 @@ fn every_example_reads_and_steps_while_its_obstacles_are_removed_mid_run() {
             }
             w.step(example.dt);
             assert!(w.state().q.iter().all(|q| q.is_finite()), "{name}");
+        }
+    }
+}
+
+#[test]
+fn every_example_reads_and_steps_while_its_obstacles_change_shape_mid_run() {
+    // A person becoming a ball (sixteen parts to one), a ball becoming a
+    // person, halfway through each example: the state reads after each
+    // change and the world steps on.
+    let ball = ShapeSpec::Primitive(PrimitiveSpec::Sphere(SphereSpec {
+        center: [0.6, 0.2, 0.5],
+        radius: 0.08,
+    }));
+    let person: ShapeSpec =
+        serde_json::from_str(r#"{ "type": "human", "position": [0.9, 0, 0], "heading": 3.14 }"#)
+            .unwrap();
+    for name in EXAMPLE_NAMES {
+        let example = scenario::example(name).unwrap();
+        let mut w = World::new(example.clone()).unwrap();
+        let steps = ((0.5 * example.duration / example.dt) as usize).min(1500);
+        for _ in 0..steps {
+            w.step(example.dt);
+        }
+        for o in &example.obstacles {
+            for shape in [&ball, &person, &ball] {
+                w.set_obstacle_shape(&o.id, shape.clone()).unwrap();
+                let _ = w.state();
+                let _ = w.guarded();
+                for _ in 0..5 {
+                    w.step(example.dt);
+                }
+                assert!(w.state().q.iter().all(|q| q.is_finite()), "{name}");
+            }
         }
     }
 }
