@@ -5,13 +5,11 @@
 // more, alike on both backends; of those, only the ones facing the eye are
 // drawn. The frame rate itself is measured per example by
 // `npm run bench -- --frames` (it depends on the machine, so it is reported
-// there against its goal rather than asserted here). Last, the canvas,
-// composited as premultiplied because that costs less, stays opaque.
+// there against its goal rather than asserted here).
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { serve } from '../../scripts/serve.mjs';
 import { launch, collectErrors, frames } from './chromium.mjs';
-import { decodePng } from './png.mjs';
 
 let server;
 let baseUrl;
@@ -100,44 +98,4 @@ test('solids are drawn at a level of detail that follows their size on screen (W
   );
   // The level of detail is the renderer's, not the backend's.
   assert.deepEqual(counts.webgl2, counts.webgpu);
-});
-
-test('the view stays opaque where translucent volumes are drawn: nothing behind the canvas shows through (WebGPU and WebGL2)', async () => {
-  // The canvas is composited as premultiplied, which costs the software
-  // renderer less than opaque (render/gpu.rs): every pixel's alpha must stay
-  // 1, translucent volumes included. The same paused frame is captured over
-  // a black and a magenta backdrop (the canvas's own CSS background, which
-  // shows wherever alpha < 1), the text boxes over the view hidden.
-  for (const backend of ['webgpu', 'webgl2']) {
-    const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 } });
-    try {
-      const page = await browser.context.newPage();
-      const errors = collectErrors(page);
-      await page.goto(`${baseUrl}?scenario=lwr4-elbow&paused&backend=${backend}`);
-      await page.evaluate(() => window.playground.ready);
-      const shots = [];
-      for (const backdrop of ['#000', '#f0f']) {
-        await page.evaluate((backdrop) => {
-          const root = document.querySelector('skeleton-playground').shadowRoot;
-          root.querySelector('#view').style.background = backdrop;
-          for (const id of ['#stats', '#hud']) root.querySelector(id).style.visibility = 'hidden';
-        }, backdrop);
-        await frames(page, 3);
-        const box = await page.locator('#view').boundingBox();
-        shots.push(decodePng(await page.screenshot({ clip: box })));
-      }
-      const [black, magenta] = shots;
-      let differing = 0;
-      for (let i = 0; i < black.data.length; i += 4) {
-        if (black.data[i] !== magenta.data[i] || black.data[i + 1] !== magenta.data[i + 1] || black.data[i + 2] !== magenta.data[i + 2]) differing += 1;
-      }
-      // The volumes are there to be seen through: translucent pixels exist.
-      const volumes = await page.evaluate(() => window.playground.state().solidTriangles);
-      assert.ok(volumes > 0, `${backend}: no volumes drawn`);
-      assert.equal(differing, 0, `${backend}: ${differing} of ${black.width * black.height} pixels changed with the backdrop`);
-      assert.deepEqual(errors, []);
-    } finally {
-      await browser.close();
-    }
-  }
 });

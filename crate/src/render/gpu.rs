@@ -53,7 +53,7 @@ impl Gpu {
             _ => Backend::WebGl2,
         };
         let (device, queue) = request_device(&adapter).await?;
-        let config = configure(&surface, (&adapter, backend), &device, (width, height))?;
+        let config = configure(&surface, &adapter, &device, (width, height))?;
         let sample_count = sample_count(&adapter, config.format, antialias.unwrap_or(!software));
         Ok(Self {
             encode_srgb: !config.format.is_srgb(),
@@ -204,18 +204,15 @@ async fn request_device(
 /// A plain 8-bit format is preferred (the shader encodes sRGB); an sRGB one
 /// (the hardware encodes) is accepted when nothing else is offered.
 ///
-/// A WebGPU canvas is composited as premultiplied although every pixel is
-/// opaque (the clear's alpha is 1 and blending keeps it, `pipelines.rs`):
-/// Chromium makes an opaque canvas opaque with work of its own each frame.
-/// On the software renderer a 928×565 canvas cost the GPU process about 3
-/// ms less per frame premultiplied (eight paired runs, cleared or with 4 000
-/// triangles: 15.8–32.1 against 18.3–36.4 ms, lower in seven). Every
-/// browser accepts both modes (the WebGPU specification has only these
-/// two), though wgpu lists only opaque among the web surface's
-/// capabilities. On WebGL2 wgpu offers opaque alone.
+/// The canvas is composited as opaque. Premultiplied was measured too: on
+/// a bare canvas on a page of its own it cost SwiftShader's GPU process
+/// about 3 ms less a frame, but in the playground it cost 7–11 ms more
+/// (planar-transition 45.7 against 56.9 fps, human-panda 33.4 against 41.3,
+/// interleaved, four rounds), presumably because the compositor then
+/// draws what lies beneath the canvas as well.
 fn configure(
     surface: &wgpu::Surface<'static>,
-    (adapter, backend): (&wgpu::Adapter, Backend),
+    adapter: &wgpu::Adapter,
     device: &wgpu::Device,
     (width, height): (u32, u32),
 ) -> Result<wgpu::SurfaceConfiguration, RenderError> {
@@ -229,9 +226,7 @@ fn configure(
     .or_else(|| caps.formats.iter().copied().find(|f| !f.is_srgb()))
     .or_else(|| caps.formats.first().copied())
     .ok_or(RenderError::NoFormat)?;
-    let alpha_mode = if backend == Backend::WebGpu {
-        wgpu::CompositeAlphaMode::PreMultiplied
-    } else if caps.alpha_modes.contains(&wgpu::CompositeAlphaMode::Opaque) {
+    let alpha_mode = if caps.alpha_modes.contains(&wgpu::CompositeAlphaMode::Opaque) {
         wgpu::CompositeAlphaMode::Opaque
     } else {
         caps.alpha_modes

@@ -229,9 +229,6 @@ impl Builder<'_> {
                     compilation_options: wgpu::PipelineCompilationOptions::default(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format: self.format,
-                        // Alpha is blended "over" (`a + (1 - a)·1`): the
-                        // canvas, composited as premultiplied (`gpu.rs`),
-                        // stays opaque under translucent volumes.
                         blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
                         write_mask: wgpu::ColorWrites::ALL,
                     })],
