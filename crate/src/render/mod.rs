@@ -31,8 +31,9 @@
 //! Level of detail: each capsule or sphere is drawn with the coarsest of
 //! three templates (120, 280 or 504 triangles, about half of them facing
 //! the eye) that keeps its silhouette within about 0.75 px, from its radius
-//! on screen (1.5 px on a software rasteriser, where triangles cost). A software rasteriser spends its time per triangle and per
-//! draw: the solids are placed, lit and culled on the CPU (`solids.rs`) and
+//! on screen (1.5 px on a software rasteriser). A software rasteriser
+//! spends its time per triangle (about 1 µs on SwiftShader) and per draw:
+//! the solids are placed, lit and culled on the CPU (`solids.rs`) and
 //! reach it as two indexed draws of front faces, not one instance each.
 //!
 //! Cost on headless Chromium's SwiftShader (WebGPU, 1280×800, `npm run
@@ -41,10 +42,12 @@
 //! on the machine of 2026-11-25 (31 242 to 14 713 triangles) and the iiwa
 //! 14 with its simplified meshes from 53.9 to 27–29 ms. On a machine about
 //! half as fast (2026-11-27) a cleared canvas of the view's size alone
-//! costs about 24 ms and `human-panda` about 52, of which much does not
-//! follow the pixels: a quarter of them saved about 9 ms, three quarters
-//! nothing measurable. The README gives the table, with the cleared
-//! canvas as its reference row.
+//! costs about 24 ms and `human-panda` about 52; a drawing buffer smaller
+//! than the view saves little, the browser then scaling it (a quarter of
+//! the pixels saved about 9 ms, three quarters nothing measurable). The
+//! coarser solids of a software rasteriser took planar-transition from
+//! 50.4 to 56.9 fps there (interleaved A/B). The README gives the table,
+//! with the cleared canvas as its reference row.
 
 mod buffers;
 mod flat;
