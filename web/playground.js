@@ -511,7 +511,7 @@ export class Playground {
   overlayTop() {
     const top = this.canvas.getBoundingClientRect().top;
     const bottoms = [this.statsBox, this.hud].filter((e) => e && !e.hidden && e.offsetParent !== null)
-      .map((e) => e.getBoundingClientRect().bottom - top);
+      .map((e) => e.getBoundingClientRect().bottom - top + (e === this.hud ? this.hudGrowth() : 0));
     const covered = bottoms.length ? Math.max(0, ...bottoms) + 6 : 0;
     return covered * (window.devicePixelRatio || 1);
   }

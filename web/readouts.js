@@ -63,6 +63,24 @@ export const readoutMethods = {
     this.hud.textContent = hudLines(s, this.running, this.influence()).join('\n');
   },
 
+  /**
+   * How much taller the HUD will get in a scene with a person (CSS px): a
+   * fit on load would frame their head where the HUD reaches once it shows
+   * three control points, the nearest human part and a line per obstacle
+   * sensed with error (human-panda). Other scenes are framed below the
+   * HUD as it is.
+   */
+  hudGrowth() {
+    const obstacles = this.scenario?.obstacles ?? [];
+    if (!obstacles.some((o) => o.shape?.type === 'human')) return 0;
+    const shown = this.hud.textContent ? this.hud.textContent.split('\n').length : 0;
+    const sensed = this.scenario?.sensing ?? {};
+    const lines = 3 + 3 + 1 + obstacles.filter((o) => Object.hasOwn(sensed, o.id)).length;
+    const style = getComputedStyle(this.hud);
+    const perLine = parseFloat(style.lineHeight) || 1.25 * (parseFloat(style.fontSize) || 12);
+    return Math.max(0, lines - shown) * perLine;
+  },
+
   /** Moves the plots' cursor to time `t` (s) and pauses, so the moment can be read. */
   seek(t) {
     if (this.running) this.toggleRun();

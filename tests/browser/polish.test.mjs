@@ -69,8 +69,8 @@ for (const backend of ['webgpu', 'webgl2']) {
           // scenario's camera says they will stand (human-panda), is framed
           // too: a 1.75 m figure beside a 1 m arm leaves the arm 0.38 of a
           // wide view and 0.28 of a phone's. human-panda frames the person
-          // whole, up to 1.85 m, beside a folded arm about 0.45 m high:
-          // 0.22 of either view.
+          // whole beside a folded arm about 0.45 m high, below the room
+          // kept for the HUD: 0.22 of either view.
           const least = name === 'human-panda' ? 0.2 : name.startsWith('human-') ? 0.25 : 0.4;
           assert.ok(Math.max(c.w, c.h) >= least, `${name} ${width}: robot covers ${c.w.toFixed(2)} × ${c.h.toFixed(2)} of the view`);
           // The scenario's camera: its direction, and its points on screen.

@@ -87,10 +87,10 @@ test('a scenario camera is checked with the scenario and ignored by the simulati
   assert.throws(() => new sa.World({ ...base(), camera: { pitch: 2 } }), { message: 'camera.pitch: must be within ±1.55 rad (got 2)' });
   assert.throws(() => new sa.World({ ...base(), camera: { frame: [[0, 0, 'x']] } }), /^Error: camera\.frame\[0\]\[2\]/);
   assert.throws(() => new sa.World({ ...base(), camera: { zoom: 2 } }), /camera.*zoom/);
-  const withCamera = { ...base(), camera: { yaw: -1.3, pitch: 0.4, frame: [[0.85, 0, 1.85]] } };
+  const withCamera = { ...base(), camera: { yaw: -1.3, pitch: 0.4, frame: [[0.85, 0, 1.6]] } };
   assert.deepEqual(sa.simulate(withCamera).samples.map((s) => s.q), sa.simulate(base()).samples.map((s) => s.q));
   // The shipped human-panda example carries one.
-  assert.deepEqual(sa.exampleScenario('human-panda').camera, { yaw: -1.3, pitch: 0.4, frame: [[0.85, 0, 1.85]] });
+  assert.deepEqual(sa.exampleScenario('human-panda').camera, { yaw: -1.3, pitch: 0.4, frame: [[0.85, 0, 1.6]] });
 });
 
 test('a World steps, reports its state and accepts edits', () => {
