@@ -20,24 +20,42 @@ import { repo } from './lib.mjs';
 import { serve } from './serve.mjs';
 import { buildWasm } from './build.mjs';
 
-const WINDOW_MS = 3000;
+export const WINDOW_MS = 3000;
 const WINDOWS = 3;
 
-/** CPU seconds of Chromium's GPU process so far (null off Linux). */
-function gpuProcessSeconds() {
+/**
+ * CPU seconds so far of the browser launched with profile folder `profile`:
+ * `{ gpu, all }`, its GPU process and all its processes (the browser, the
+ * GPU process, the renderers and utilities: the descendants of the process
+ * whose command line names the profile). Other browsers on the machine are
+ * not counted. `null` off Linux (read from /proc).
+ */
+export function browserSeconds(profile) {
   if (!fs.existsSync('/proc/self/stat')) return null;
-  let total = 0;
+  const procs = [];
   for (const pid of fs.readdirSync('/proc').filter((p) => /^\d+$/.test(p))) {
     try {
-      if (!fs.readFileSync(`/proc/${pid}/cmdline`, 'utf8').includes('--type=gpu-process')) continue;
-      // utime and stime: fields 14 and 15, counted after the command name.
+      const cmdline = fs.readFileSync(`/proc/${pid}/cmdline`, 'utf8');
+      // After the command name: state, ppid, ..., utime and stime (fields 14 and 15).
       const fields = fs.readFileSync(`/proc/${pid}/stat`, 'utf8').split(') ')[1].split(' ');
-      total += (Number(fields[11]) + Number(fields[12])) / 100;
+      procs.push({ pid, ppid: fields[1], cmdline, seconds: (Number(fields[11]) + Number(fields[12])) / 100 });
     } catch {
       // The process ended between the listing and the read.
     }
   }
-  return total;
+  const ours = new Set(procs.filter((p) => p.cmdline.includes(`--user-data-dir=${profile}`)).map((p) => p.pid));
+  for (let grew = true; grew;) {
+    grew = false;
+    for (const p of procs) {
+      if (!ours.has(p.pid) && ours.has(p.ppid)) {
+        ours.add(p.pid);
+        grew = true;
+      }
+    }
+  }
+  const mine = procs.filter((p) => ours.has(p.pid));
+  const sum = (ps) => ps.reduce((t, p) => t + p.seconds, 0);
+  return { gpu: sum(mine.filter((p) => p.cmdline.includes('--type=gpu-process'))), all: sum(mine) };
 }
 
 /** rAF timestamps of `page` over `ms` milliseconds. */
@@ -87,8 +105,11 @@ const withMeshes = (page, files) => page.evaluate(({ xml, meshes, tip }) => {
   app.fit();
 }, files);
 
-/** One example on one backend: `{ fps, p90, gpuMs, triangles }` (medians over the windows). */
-async function measure(page, url, name, backend, files = null) {
+/**
+ * One example on one backend: `sample`'s figures, the triangles drawn and
+ * the page's own work per frame. `files`: a mesh row's (`meshRowFiles`).
+ */
+export async function measure(page, profile, url, name, backend, { files = null, windows = WINDOWS } = {}) {
   await page.goto(`${url}?scenario=${name}&backend=${backend}`);
   await page.evaluate(() => window.playground.ready);
   if (files) await withMeshes(page, files);
@@ -102,7 +123,7 @@ async function measure(page, url, name, backend, files = null) {
     }, null, { timeout: 60000 });
   }
   await page.waitForTimeout(1000);
-  const m = await sample(page);
+  const m = await sample(page, profile, windows);
   const { triangles, pageMs } = await page.evaluate(() => {
     const { stepMs, drawMs } = window.playground.app.stats;
     return { triangles: window.playground.state().triangles, pageMs: stepMs + drawMs };
@@ -110,21 +131,31 @@ async function measure(page, url, name, backend, files = null) {
   return { ...m, triangles, pageMs };
 }
 
-/** `{ fps, p90, gpuMs }` of the page as it runs: medians over the windows. */
-async function sample(page) {
+/**
+ * `{ fps, p90, gpuMs, cpuMs }` of the page as it runs (medians over
+ * `windows` windows): frames per second, the 90th percentile of the frame
+ * interval, and the CPU milliseconds per frame of the browser's GPU process
+ * and of all its processes (`profile`: the browser's, see `browserSeconds`).
+ */
+export async function sample(page, profile, windows = WINDOWS) {
   const fps = [];
   const p90 = [];
   const gpuMs = [];
-  for (let w = 0; w < WINDOWS; w++) {
-    const cpu0 = gpuProcessSeconds();
+  const cpuMs = [];
+  for (let w = 0; w < windows; w++) {
+    const cpu0 = browserSeconds(profile);
     const ts = await timestamps(page, WINDOW_MS);
-    const cpu1 = gpuProcessSeconds();
+    const cpu1 = browserSeconds(profile);
     const gaps = ts.slice(1).map((t, k) => t - ts[k]).sort((a, b) => a - b);
     fps.push(gaps.length / ((ts.at(-1) - ts[0]) / 1000));
     p90.push(gaps[Math.floor(0.9 * gaps.length)]);
-    if (cpu0 !== null) gpuMs.push((1000 * (cpu1 - cpu0)) / gaps.length);
+    if (cpu0 !== null) {
+      gpuMs.push((1000 * (cpu1.gpu - cpu0.gpu)) / gaps.length);
+      cpuMs.push((1000 * (cpu1.all - cpu0.all)) / gaps.length);
+    }
   }
-  return { fps: median(fps), p90: median(p90), gpuMs: gpuMs.length ? median(gpuMs) : NaN };
+  const m = (xs) => (xs.length ? median(xs) : NaN);
+  return { fps: median(fps), p90: median(p90), gpuMs: m(gpuMs), cpuMs: m(cpuMs) };
 }
 
 /**
@@ -133,7 +164,7 @@ async function sample(page) {
  * frame, on a page that holds nothing else and loads no wasm. What an
  * example costs beyond it is the playground's.
  */
-async function measureReference(page, url) {
+async function measureReference(page, profile, url) {
   await page.goto(`${url}?scenario=planar-transition&backend=webgpu&paused`);
   await page.evaluate(() => window.playground.ready);
   const { width, height } = await page.evaluate(() => window.playground.state());
@@ -164,13 +195,42 @@ async function measureReference(page, url) {
   }, { width, height });
   if (!ok) return null;
   await page.waitForTimeout(1000);
-  return { ...(await sample(page)), size: `${width}×${height}` };
+  return { ...(await sample(page, profile)), size: `${width}×${height}` };
 }
 
 const loadAverage = () => os.loadavg().map((x) => x.toFixed(2)).join(' ');
 
-/** Prints the frame-rate table; returns false when the page could not be measured. */
-export async function frameTable(examples) {
+/** Cores this process may use. */
+export const cores = () => os.availableParallelism?.() ?? os.cpus().length;
+
+/** A table row: the figures of `m` (`sample`'s and `measure`'s), then `note`. */
+function row(name, backend, m, note) {
+  const ceiling = cores() * 1000 / m.cpuMs;
+  const cells = [
+    name.padEnd(20), backend.padEnd(8), m.fps.toFixed(1).padStart(6), m.p90.toFixed(1).padStart(7),
+    m.gpuMs.toFixed(1).padStart(7), m.cpuMs.toFixed(1).padStart(7), ceiling.toFixed(0).padStart(8),
+    (m.pageMs === undefined ? '-' : m.pageMs.toFixed(1)).padStart(8), String(m.triangles ?? 0).padStart(10),
+  ];
+  return `${cells.join(' ')}  ${note}`;
+}
+
+/**
+ * The shipped examples and the mesh rows, as `{ name, example, files }`
+ * (only those named in `only` when given).
+ */
+export function frameRows(examples, only = null) {
+  const rows = [
+    ...examples.map((name) => ({ name, example: name, files: null })),
+    ...MESH_ROWS.map((r) => ({ name: r.name, example: r.example, files: meshRowFiles(r) })),
+  ];
+  return only ? rows.filter((r) => only.includes(r.name)) : rows;
+}
+
+/**
+ * Prints the frame-rate table (the rows named in `only`, else all); returns
+ * false when the page could not be measured.
+ */
+export async function frameTable(examples, only = null) {
   if (buildWasm('web') !== 0) return false;
   const { launch } = await import('../tests/browser/chromium.mjs');
   const { server, url } = await serve({ port: 0 });
@@ -178,26 +238,23 @@ export async function frameTable(examples) {
   try {
     const page = await browser.context.newPage();
     console.log('\n=== playground frame rate: headless Chromium, software rendering (SwiftShader), 1280×800, running');
-    console.log(`(median of ${WINDOWS} windows of ${WINDOW_MS / 1000} s; GPU ms = CPU time of Chromium's GPU process per frame, on two cores;`);
-    console.log(" page ms = the playground's own work per frame on the page's thread: the steps and the drawing calls)");
-    console.log(`${'example'.padEnd(20)} ${'backend'.padEnd(8)} ${'fps'.padStart(6)} ${'p90 ms'.padStart(7)} ${'GPU ms'.padStart(7)} ${'page ms'.padStart(8)} ${'triangles'.padStart(10)}  goal`);
+    console.log(`(median of ${WINDOWS} windows of ${WINDOW_MS / 1000} s, per frame: GPU ms = CPU time of Chromium's GPU process, CPU ms = of all its processes;`);
+    console.log(` ≤ fps = ${cores()} cores × 1000 / CPU ms, the most this machine's cores allow for that work; page ms = the playground's own`);
+    console.log(' work on the page\'s thread: the steps and the drawing calls)');
+    const head = ['example'.padEnd(20), 'backend'.padEnd(8), 'fps'.padStart(6), 'p90 ms'.padStart(7), 'GPU ms'.padStart(7),
+      'CPU ms'.padStart(7), '≤ fps'.padStart(8), 'page ms'.padStart(8), 'triangles'.padStart(10)];
+    console.log(`${head.join(' ')}  goal`);
     const before = loadAverage();
-    const r = await measureReference(page, url);
-    if (r) {
-      console.log(`${'empty canvas'.padEnd(20)} ${'webgpu'.padEnd(8)} ${r.fps.toFixed(1).padStart(6)} ${r.p90.toFixed(1).padStart(7)} ${r.gpuMs.toFixed(1).padStart(7)} ${'-'.padStart(8)} ${'0'.padStart(10)}  (reference: the ceiling here, a cleared ${r.size} canvas alone)`);
-    }
-    const rows = [
-      ...examples.map((name) => ({ name, example: name, files: null })),
-      ...MESH_ROWS.map((row) => ({ name: row.name, example: row.example, files: meshRowFiles(row) })),
-    ];
-    for (const { name, example, files } of rows) {
+    const r = await measureReference(page, browser.profile, url);
+    if (r) console.log(row('empty canvas', 'webgpu', r, `(reference: the ceiling here, a cleared ${r.size} canvas alone)`));
+    for (const { name, example, files } of frameRows(examples, only)) {
       for (const backend of ['webgpu', 'webgl2']) {
-        const m = await measure(page, url, example, backend, files);
+        const m = await measure(page, browser.profile, url, example, backend, { files });
         const goal = backend === 'webgpu' ? `≥ 50 fps ${m.fps >= 50 ? '(met)' : '(NOT met)'}` : '(reported)';
-        console.log(`${name.padEnd(20)} ${backend.padEnd(8)} ${m.fps.toFixed(1).padStart(6)} ${m.p90.toFixed(1).padStart(7)} ${m.gpuMs.toFixed(1).padStart(7)} ${m.pageMs.toFixed(1).padStart(8)} ${String(m.triangles).padStart(10)}  ${goal}`);
+        console.log(row(name, backend, m, goal));
       }
     }
-    console.log(`load average (1, 5, 15 min) before the table: ${before}; after it: ${loadAverage()} on ${os.cpus().length} cores (the measurement itself keeps about two busy; more before it is other work)`);
+    console.log(`load average (1, 5, 15 min) before the table: ${before}; after it: ${loadAverage()} on ${cores()} cores (the measurement itself keeps about two busy; more before it is other work)`);
     return true;
   } finally {
     await browser.close();

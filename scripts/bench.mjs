@@ -7,7 +7,10 @@
 // Last, the playground's frame rate in headless Chromium (bench-frames.mjs).
 //
 //   npm run bench [-- --tables]   (--tables skips the criterion runs)
-//   npm run bench -- --frames     (only the frame-rate table)
+//   npm run bench -- --frames     (only the frame-rate table; --only a,b
+//                                  measures those rows; --against <dir>
+//                                  measures this build against another,
+//                                  interleaved: bench-ab.mjs)
 //   npm run bench -- --reach      (only the reach benchmark: NEO's 198 PR2
 //                                  problems and 100 random Panda problems,
 //                                  `cargo run --release --example reach`)
@@ -19,7 +22,8 @@ import { spawnSync } from 'node:child_process';
 import { repo, run } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
-import { frameTable } from './bench-frames.mjs';
+import { frameRows, frameTable } from './bench-frames.mjs';
+import { abTable } from './bench-ab.mjs';
 
 const benches = fs
   .readdirSync(path.join(repo, 'crate', 'benches'))
@@ -34,7 +38,16 @@ if (process.argv.includes('--reach')) {
   process.exit(run('cargo', ['run', '--release', '-q', '-p', 'skeleton-avoidance', '--example', 'reach']));
 }
 if (process.argv.includes('--frames')) {
-  const ok = await frameTable(exampleNames());
+  const only = option('only')?.split(',');
+  const unknown = only?.filter((name) => !frameRows(exampleNames()).some((r) => r.name === name));
+  if (unknown?.length) {
+    console.error(`--only: no frame row named ${unknown.join(', ')} (rows: ${frameRows(exampleNames()).map((r) => r.name).join(', ')})`);
+    process.exit(1);
+  }
+  const against = option('against');
+  const ok = against
+    ? await abTable(exampleNames(), { against, only, rounds: Number(option('rounds') ?? 4) })
+    : await frameTable(exampleNames(), only);
   process.exit(ok ? 0 : 1);
 }
 for (const b of quick ? [] : benches) {
@@ -42,6 +55,12 @@ for (const b of quick ? [] : benches) {
   if (run('cargo', ['bench', '-p', 'skeleton-avoidance', '--features', 'parallel', '--bench', b]) !== 0) process.exit(1);
 }
 if (buildWasm('node') !== 0) process.exit(1);
+
+/** The value after `--name` on the command line, if any. */
+function option(name) {
+  const i = process.argv.indexOf(`--${name}`);
+  return i > 0 ? process.argv[i + 1] : undefined;
+}
 
 /** The shipped examples, in the crate's order (scenarios/*.json). */
 function exampleNames() {

@@ -25,12 +25,16 @@ const TYPES = {
   '.md': 'text/plain; charset=utf-8',
 };
 
-/** Starts the server; resolves to `{ server, url }` once it listens. */
-export function serve({ port = 8080, host = '127.0.0.1', root = 'web' } = {}) {
-  const mounts = [
-    ...(root === 'web' ? [['/pkg/', path.join(repo, 'crate', 'pkg')], ['/robots/', path.join(repo, 'crate', 'tests', 'data')]] : []),
-    ['/', path.resolve(repo, root)],
-  ];
+/**
+ * Starts the server; resolves to `{ server, url }` once it listens. With
+ * `root: 'web'`, `tree` is the checkout whose web/, wasm package and meshes
+ * are served (another build's, for `npm run bench -- --frames --against`),
+ * and `pkg` a wasm package served instead of the tree's.
+ */
+export function serve({ port = 8080, host = '127.0.0.1', root = 'web', tree = repo, pkg = path.join(tree, 'crate', 'pkg') } = {}) {
+  const mounts = root === 'web'
+    ? [['/pkg/', path.resolve(pkg)], ['/robots/', path.join(tree, 'crate', 'tests', 'data')], ['/', path.join(tree, 'web')]]
+    : [['/', path.resolve(repo, root)]];
   const server = http.createServer((req, res) => {
     const url = new URL(req.url ?? '/', 'http://localhost');
     let pathname = decodeURIComponent(url.pathname);

@@ -50,6 +50,8 @@ export async function launch({ webgpu = true, extraArgs = [], viewport = { width
   });
   return {
     context,
+    /** The profile folder: the browser's command line names it (scripts/bench-frames.mjs finds its processes so). */
+    profile,
     async close() {
       await context.close();
       fs.rmSync(profile, { recursive: true, force: true });
