@@ -76,6 +76,7 @@ export class EventFeed {
     this.rows = [];
     this.filter = { kind: '', text: '' };
     this.suppressed = 0;
+    this.pending = [];
     if (log) this.buildLog(log);
   }
 
@@ -90,6 +91,7 @@ export class EventFeed {
 
   /** Forgets everything (a new or restarted world). */
   clear() {
+    this.pending = [];
     this.stopped = false;
     this.suppressed = 0;
     for (const n of this.live.values()) clearTimeout(n.timer);
@@ -100,7 +102,27 @@ export class EventFeed {
     if (this.empty) this.empty.hidden = false;
   }
 
-  /** Takes the new events of one frame, oldest first. */
+  /**
+   * Takes the new events of one frame, oldest first, and keeps them for the
+   * next `flush`, or shows them at once when one is pinned (a stop). The
+   * playground flushes as it refreshes its plots: on software rendering a
+   * frame in which the page's text changes costs a composite of the page,
+   * and a person walking by the arm makes events nearly every frame.
+   */
+  queue(events) {
+    for (const e of events) this.pending.push(e);
+    if (events.some((e) => PINNED.has(e.kind))) this.flush();
+  }
+
+  /** Shows the queued events. */
+  flush() {
+    if (this.pending.length === 0) return;
+    const events = this.pending;
+    this.pending = [];
+    this.push(events);
+  }
+
+  /** Shows the new events of one frame, oldest first, at once. */
   push(events) {
     for (const e of events) {
       const t = Number(e.t);

@@ -463,13 +463,15 @@ export class Playground {
     this.measure(now, steps, t1 - t0, t2 - t1);
     if (steps > 0) this.record();
     if (changed) this.showEvents();
-    // Plots and the text over the view are refreshed together, six times a
-    // second: enough to read, and on software rendering every frame in
-    // which anything but the 3D canvas changes costs a full composite.
+    // Plots, the text over the view and the event feed are refreshed
+    // together, six times a second: enough to read, and on software
+    // rendering every frame in which anything but the 3D canvas changes
+    // costs a full composite (a stop is shown at once: EventFeed.queue).
     if (this.frames % REFRESH_EVERY === 0 || (!this.running && changed) || this.seekPending) {
       this.seekPending = false;
       for (const key of this.shownPlots) this.plots[key].draw();
       this.refreshHud();
+      this.events.flush();
     }
   }
 

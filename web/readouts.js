@@ -49,7 +49,7 @@ export const readoutMethods = {
     let events = this.state.events ?? [];
     const total = typeof this.world.eventCount === 'number' ? this.world.eventCount : events.length;
     if (events.length === total) events = events.slice(this.seenEvents);
-    this.events.push(events);
+    this.events.queue(events);
     this.trace.events(events);
     this.seenEvents = total;
   },
