@@ -9,6 +9,13 @@ import { h } from './dom.js';
 
 /** Kinds that stay on screen until dismissed. */
 const PINNED = new Set(['stop', 'chattering', 'unavoidable']);
+/**
+ * Kinds the log alone reports while it is on screen: the control points'
+ * routine travel along the skeleton, which the view shows as it happens.
+ * Notices over the view are kept for what asks for attention; with a person
+ * walking by the arm these came several a second and covered the robot.
+ */
+const ROUTINE = new Set(['segmentSwitch', 'transitionStart', 'transitionEnd']);
 /** Kinds shown while the robot is stopped. */
 const STATE_CHANGES = new Set(['stop', 'resume', 'chattering', 'unavoidable', 'lock', 'unlock']);
 /** Two events of one kind closer than this (s of simulation time) are one burst. */
@@ -124,6 +131,8 @@ export class EventFeed {
 
   /** Shows the new events of one frame, oldest first, at once. */
   push(events) {
+    // Without a log on screen (an embed, a phone) every kind is a notice.
+    const logShown = Boolean(this.list?.getClientRects().length);
     for (const e of events) {
       const t = Number(e.t);
       if (this.stopped && !STATE_CHANGES.has(e.kind)) {
@@ -132,7 +141,7 @@ export class EventFeed {
       }
       if (e.kind === 'stop') this.stopped = true;
       if (e.kind === 'resume') this.stopped = false;
-      this.notice(e, t);
+      if (!(ROUTINE.has(e.kind) && logShown)) this.notice(e, t);
       this.log(e, t);
     }
   }

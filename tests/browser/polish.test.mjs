@@ -1,6 +1,7 @@
 // The playground as its users meet it (issue 11), in headless Chromium with
 // real mouse, wheel, touch and keyboard input: the view framed on load, Fit,
-// double click and Reset; events merged and the stop pinned; embedded
+// double click and Reset; events merged, the stop pinned and routine travel
+// logged rather than shown over the view beside a log; embedded
 // widgets that let the page scroll and start when scrolled into view; the
 // layout at 1280×800, 800×600 and 390×844; the DH editor's refusals; the
 // trace export; keyboard operation.
@@ -143,6 +144,32 @@ test('chattering: the stop stays pinned, bursts are merged, a stopped arm logs n
     assert.equal((await state(page)).running, false, 'seeking pauses');
     await page.locator('.notice.stop .dismiss').click();
     assert.equal(await page.locator('.notice.stop').count(), 0, 'dismissed');
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
+
+test('notices: beside the event log the control points\' routine travel is only logged; an embed without a log shows it as notices', async () => {
+  const ROUTINE = /switches from|travels from|arrives on|segment switch|transition (starts|ends)/;
+  const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 } });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await open(page, '?scenario=planar-transition');
+    await page.waitForFunction(() => window.playground.state().events.log.some((t) => /switches from|travels from/.test(t)), null, { timeout: 30000 });
+    // The feed is shown with the plots, a few times a second: wait for the next refresh.
+    await frames(page, 12);
+    const ev = (await state(page)).events;
+    assert.ok(ev.log.some((t) => ROUTINE.test(t)), `the log has the travel: ${ev.log}`);
+    assert.ok(ev.notices.every((t) => !ROUTINE.test(t)), `no routine notice beside the log: ${ev.notices}`);
+    await page.goto(`${baseUrl}embed-example.html`);
+    const seen = await page.waitForFunction(() => {
+      const el = document.querySelector('#left');
+      const ev = el.playground?.snapshot().events;
+      return ev && ev.log.length === 0 && ev.notices.find((t) => /switches from|travels from|arrives on|segment switch|transition (starts|ends)/.test(t));
+    }, null, { timeout: 30000 });
+    assert.ok(ROUTINE.test(await seen.jsonValue()), 'the embed shows the travel as a notice');
     assert.deepEqual(errors, []);
   } finally {
     await browser.close();
