@@ -53,7 +53,9 @@
 //! - *jitter*: each coordinate of each keypoint is smoothed by a first-order
 //!   low-pass run forwards then backwards over the frames (zero phase lag;
 //!   time constant `smoothing`, default 0.03 s, 0 turns it off;
-//!   `α = 1 − exp(−Δt/τ)` per step, so uneven frame times are honoured);
+//!   `α = 1 − exp(−Δt/τ)` per step, so uneven frame times are honoured),
+//!   over the track extended by its reflection at each end so that a
+//!   keypoint still moving there is not replayed behind (`filter.rs`);
 //! - *angles beyond the body's range* are clamped into it.
 //!
 //! The fit is analytic per frame: the root from the middle of
@@ -76,6 +78,7 @@ use super::spec::{AnimationSpec, HumanSpec, MAX_HEIGHT};
 use crate::error::{FieldError, finite};
 
 mod bvh;
+mod filter;
 mod fit;
 mod hierarchy;
 mod layout;
@@ -452,20 +455,6 @@ fn fill(times: &[f64], series: &mut [Option<DVec3>], max_gap: f64) -> usize {
     filled
 }
 
-/// The forward–backward first-order low-pass of time constant `tau`.
-fn smooth(times: &[f64], series: &mut [DVec3], tau: f64) {
-    if tau <= 0.0 || series.len() < 3 {
-        return;
-    }
-    let alpha = |k: usize| 1.0 - crate::math::exp(-(times[k] - times[k - 1]) / tau);
-    for k in 1..series.len() {
-        series[k] = series[k - 1] + (series[k] - series[k - 1]) * alpha(k);
-    }
-    for k in (1..series.len()).rev() {
-        series[k - 1] = series[k] + (series[k - 1] - series[k]) * alpha(k);
-    }
-}
-
 fn convert(
     source: &Source,
     times: &[f64],
@@ -491,7 +480,7 @@ fn convert(
         }
         report.filled += fill(times, &mut series, options.max_gap);
         let mut clean: Vec<DVec3> = series.into_iter().map(Option::unwrap_or_default).collect();
-        smooth(times, &mut clean, options.smoothing);
+        filter::smooth(times, &mut clean, options.smoothing);
         joints.push(clean);
     }
     points.clear();
