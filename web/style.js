@@ -21,10 +21,10 @@ export const STYLE = `
 .hud { right: 0.5rem; padding: 0.25rem 0.5rem; }
 .notices { position: absolute; left: 0.5rem; bottom: 0.5rem; display: flex; flex-direction: column; gap: 0.25rem;
            max-width: min(34rem, calc(100% - 8rem)); pointer-events: none; }
-.notice { background: #1d2330; color: #fff; border-radius: 4px; padding: 0.2rem 0.5rem; font-size: 12px; display: flex; gap: 0.5rem; align-items: baseline; }
+.notice { background: rgba(29,35,48,0.8); color: #fff; border-radius: 4px; padding: 0.2rem 0.5rem; font-size: 12px; display: flex; gap: 0.5rem; align-items: baseline; }
 .notice span { flex: 1; }
-.notice.pinned { background: #a52714; pointer-events: auto; box-shadow: 0 1px 4px rgba(0,0,0,0.25); }
-.notice.lock, .notice.switchRisk, .notice.transitionTooSlow { background: #7a4b00; }
+.notice.pinned { background: rgba(165,39,20,0.85); pointer-events: auto; box-shadow: 0 1px 4px rgba(0,0,0,0.25); }
+.notice.lock, .notice.switchRisk, .notice.transitionTooSlow { background: rgba(122,75,0,0.8); }
 .notice .dismiss { background: transparent; color: #fff; border: 1px solid rgba(255,255,255,0.6); border-radius: 3px; cursor: pointer; font-size: 12px; line-height: 1; padding: 0.1rem 0.35rem; }
 .hint-box { position: absolute; left: 50%; bottom: 0.6rem; transform: translateX(-50%); background: rgba(29,35,48,0.88); color: #fff;
             border-radius: 4px; padding: 0.25rem 0.6rem; font-size: 12px; pointer-events: none; white-space: nowrap; }
