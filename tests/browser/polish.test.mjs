@@ -138,8 +138,12 @@ test('every example keeps its robot in view and clear of the text over it as it 
           if (steps > 0) app.world.advance(dt, steps);
           app.edited = true;
         }, { t, dt });
-        await page.waitForFunction((t) => window.playground.state().world.t >= t - 1e-6, t, { timeout: 20000 });
-        await frames(page, 3);
+        // Wait for the state, not for frames: the HUD shows the time it was refreshed at.
+        await page.waitForFunction((t) => {
+          const app = window.playground.app;
+          const now = app.world.state(1e9).t;
+          return now >= t - 1e-6 && app.hud.textContent.startsWith(`t ${now.toFixed(3)} s`);
+        }, t, { timeout: 20000 });
         const s = await state(page);
         const nodes = s.screenNodes.filter(Boolean);
         const outside = nodes.filter(([x, y]) => x < 0 || y < 0 || x > s.width || y > s.height);
@@ -194,9 +198,8 @@ test('notices: beside the event log the control points\' routine travel is only 
     const page = await browser.context.newPage();
     const errors = collectErrors(page);
     await open(page, '?scenario=planar-transition');
+    // The log and the notices are filled by the same refresh of the feed.
     await page.waitForFunction(() => window.playground.state().events.log.some((t) => /switches from|travels from/.test(t)), null, { timeout: 30000 });
-    // The feed is shown with the plots, a few times a second: wait for the next refresh.
-    await frames(page, 12);
     const ev = (await state(page)).events;
     assert.ok(ev.log.some((t) => ROUTINE.test(t)), `the log has the travel: ${ev.log}`);
     assert.ok(ev.notices.every((t) => !ROUTINE.test(t)), `no routine notice beside the log: ${ev.notices}`);
