@@ -125,7 +125,8 @@ pub(super) fn triangle_vertices(
 }
 
 /// Adds the lines of `grid` (the two through the origin in the axis
-/// colour) as pairs of vertices.
+/// colour) as pairs of vertices: every [`Grid::COARSE`]-th line across the
+/// whole square, the others across the fine square only.
 pub(super) fn push_grid(lines: &mut Vec<ShadedVertex>, grid: &Grid, shading: &Shading<'_>) {
     if !(grid.spacing.is_finite() && grid.half_extent.is_finite())
         || grid.spacing <= 0.0
@@ -134,12 +135,20 @@ pub(super) fn push_grid(lines: &mut Vec<ShadedVertex>, grid: &Grid, shading: &Sh
         return;
     }
     let h = grid.half_extent;
+    let fine = if grid.fine_extent.is_finite() { grid.fine_extent.clamp(0.0, h) } else { h };
     let n = ((h / grid.spacing).floor() as i32).min(500);
     let (color, axis_color) = (unlit(grid.color, shading), unlit(grid.axis_color, shading));
     for i in -n..=n {
         let t = i as f32 * grid.spacing;
+        let reach = if i % Grid::COARSE == 0 {
+            h
+        } else if t.abs() <= fine + 1e-4 {
+            fine
+        } else {
+            continue;
+        };
         let color = if i == 0 { axis_color } else { color };
-        for (a, b) in [([t, -h, 0.0], [t, h, 0.0]), ([-h, t, 0.0], [h, t, 0.0])] {
+        for (a, b) in [([t, -reach, 0.0], [t, reach, 0.0]), ([-reach, t, 0.0], [reach, t, 0.0])] {
             for position in [a, b] {
                 lines.push(ShadedVertex { position, color });
             }

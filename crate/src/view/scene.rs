@@ -54,11 +54,18 @@ pub struct Triangle {
     pub color: [f32; 4],
 }
 
-/// A square grid of lines on the ground plane `z = 0`, centred on the origin.
+/// A square grid of lines on the ground plane `z = 0`, centred on the origin:
+/// every `spacing` within `fine_extent` of the origin, every
+/// [`Grid::COARSE`]-th line beyond it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grid {
     /// Half the side of the square (m).
     pub half_extent: f32,
+    /// Half the side of the square where every line is drawn (m); beyond
+    /// it only every [`Grid::COARSE`]-th. Far from the eye the fine lines
+    /// crowd into a grey band, and each costs a software rasteriser as much
+    /// as a near one.
+    pub fine_extent: f32,
     /// Distance between neighbouring lines (m).
     pub spacing: f32,
     /// sRGB colour of the lines.
@@ -67,10 +74,16 @@ pub struct Grid {
     pub axis_color: [f32; 4],
 }
 
+impl Grid {
+    /// Beyond [`Grid::fine_extent`], one line in this many is drawn.
+    pub const COARSE: i32 = 5;
+}
+
 impl Default for Grid {
     fn default() -> Self {
         Self {
             half_extent: 1.0,
+            fine_extent: 1.0,
             spacing: 0.1,
             color: [0.78, 0.80, 0.84, 1.0],
             axis_color: [0.55, 0.58, 0.64, 1.0],

@@ -345,10 +345,14 @@ impl Stage {
         let scene = &mut self.scene;
         scene.clear();
         // The ground grid reaches well past the arm (whole metres, 1 … 10 m
-        // from the origin), so that a framed view shows no edge of it.
+        // from the origin), so that a framed view shows no edge of it; its
+        // 0.1 m lines cover the arm's reach (to the next half metre, where a
+        // 0.5 m line runs), beyond which only the 0.5 m lines go on.
         let half_extent = (2.0 * self.reach.radius).ceil().clamp(1.0, 10.0) as f32;
+        let fine_extent = ((2.0 * self.reach.radius).ceil() / 2.0).clamp(0.5, 10.0) as f32;
         scene.grid = self.display.grid.then(|| Grid {
             half_extent,
+            fine_extent: fine_extent.min(half_extent),
             ..Grid::default()
         });
         let options = DrawOptions {
