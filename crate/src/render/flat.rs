@@ -135,7 +135,11 @@ pub(super) fn push_grid(lines: &mut Vec<ShadedVertex>, grid: &Grid, shading: &Sh
         return;
     }
     let h = grid.half_extent;
-    let fine = if grid.fine_extent.is_finite() { grid.fine_extent.clamp(0.0, h) } else { h };
+    let fine = if grid.fine_extent.is_finite() {
+        grid.fine_extent.clamp(0.0, h)
+    } else {
+        h
+    };
     let n = ((h / grid.spacing).floor() as i32).min(500);
     let (color, axis_color) = (unlit(grid.color, shading), unlit(grid.axis_color, shading));
     for i in -n..=n {
@@ -148,7 +152,10 @@ pub(super) fn push_grid(lines: &mut Vec<ShadedVertex>, grid: &Grid, shading: &Sh
             continue;
         };
         let color = if i == 0 { axis_color } else { color };
-        for (a, b) in [([t, -reach, 0.0], [t, reach, 0.0]), ([-reach, t, 0.0], [reach, t, 0.0])] {
+        for (a, b) in [
+            ([t, -reach, 0.0], [t, reach, 0.0]),
+            ([-reach, t, 0.0], [reach, t, 0.0]),
+        ] {
             for position in [a, b] {
                 lines.push(ShadedVertex { position, color });
             }

@@ -30,7 +30,10 @@ pub fn smooth(times: &[f64], series: &mut [DVec3], tau: f64) {
     }
     // Frames reflected at each end: those within PAD_TAUS·τ of that end.
     let span = PAD_TAUS * tau;
-    let head = (1..n).take_while(|&k| times[k] - times[0] <= span).count().max(1);
+    let head = (1..n)
+        .take_while(|&k| times[k] - times[0] <= span)
+        .count()
+        .max(1);
     let tail = (1..n)
         .take_while(|&k| times[n - 1] - times[n - 1 - k] <= span)
         .count()
@@ -75,12 +78,23 @@ mod tests {
     /// of smoothing a keypoint moving at 1.1 m/s over `times`.
     fn ramp_errors(times: &[f64]) -> (f64, f64) {
         let v = DVec3::new(1.0, -0.4, 0.2);
-        let raw: Vec<DVec3> = times.iter().map(|&t| DVec3::new(0.3, 1.0, 0.9) + v * t).collect();
+        let raw: Vec<DVec3> = times
+            .iter()
+            .map(|&t| DVec3::new(0.3, 1.0, 0.9) + v * t)
+            .collect();
         let mut smoothed = raw.clone();
         smooth(times, &mut smoothed, 0.03);
-        let e: Vec<f64> = raw.iter().zip(&smoothed).map(|(a, b)| (*a - *b).length()).collect();
+        let e: Vec<f64> = raw
+            .iter()
+            .zip(&smoothed)
+            .map(|(a, b)| (*a - *b).length())
+            .collect();
         let n = e.len();
-        let ends = e[..3].iter().chain(&e[n - 3..]).copied().fold(0.0, f64::max);
+        let ends = e[..3]
+            .iter()
+            .chain(&e[n - 3..])
+            .copied()
+            .fold(0.0, f64::max);
         (ends, e[3..n - 3].iter().copied().fold(0.0, f64::max))
     }
 
@@ -90,11 +104,17 @@ mod tests {
         // 24 mm behind (|v|·τ = 33 mm at steady state).
         let even: Vec<f64> = (0..60).map(|k| 0.5 + k as f64 / 60.0).collect();
         let (ends, inside) = ramp_errors(&even);
-        assert!(ends < 2e-5 && inside < 2e-5, "ends {ends} m, inside {inside} m");
+        assert!(
+            ends < 2e-5 && inside < 2e-5,
+            "ends {ends} m, inside {inside} m"
+        );
         // Uneven steps: a variable-step first-order filter itself leaves
         // about 0.7 mm inside the track; the ends are no worse.
         let (ends, inside) = ramp_errors(&uneven(60));
-        assert!(inside < 1e-3 && ends < 1.5 * inside, "ends {ends} m, inside {inside} m");
+        assert!(
+            inside < 1e-3 && ends < 1.5 * inside,
+            "ends {ends} m, inside {inside} m"
+        );
     }
 
     #[test]
@@ -109,10 +129,19 @@ mod tests {
         let mut smoothed = raw.clone();
         smooth(&times, &mut smoothed, 0.03);
         let rms = |s: &[DVec3]| {
-            let sum: f64 = s.iter().zip(&times).map(|(p, &t)| (*p - truth(t)).length_squared()).sum();
+            let sum: f64 = s
+                .iter()
+                .zip(&times)
+                .map(|(p, &t)| (*p - truth(t)).length_squared())
+                .sum();
             (sum / s.len() as f64).sqrt()
         };
-        assert!(rms(&smoothed) < 0.6 * rms(&raw), "{} vs {}", rms(&smoothed), rms(&raw));
+        assert!(
+            rms(&smoothed) < 0.6 * rms(&raw),
+            "{} vs {}",
+            rms(&smoothed),
+            rms(&raw)
+        );
         // Three frames, fewer than the extension wants: smoothed all the same.
         let mut short = raw[..3].to_vec();
         smooth(&times[..3], &mut short, 0.03);
