@@ -81,7 +81,9 @@ pub fn is_planar(frames: &[DAffine3]) -> bool {
     })
 }
 
-/// The points a view should frame: the skeleton's nodes and the reference
+/// The points a view should frame: the skeleton's volumes (each node
+/// moved by its volume's radius along ±x, ±y and ±z, so that a fit keeps
+/// the volumes whole and not only the spine) and the reference
 /// point of every bounded obstacle part the robot can reach (within the
 /// reach ball). Infinite planes and parts out of reach (a large floor's
 /// centre, a person walking in from afar) are left out so that the robot
@@ -91,6 +93,22 @@ pub fn is_planar(frames: &[DAffine3]) -> bool {
 #[must_use]
 pub fn fit_points(state: &DrawState, reach: &Reach) -> Vec<[f64; 3]> {
     let mut points = state.skeleton.nodes.clone();
+    let nodes = &state.skeleton.nodes;
+    for s in &state.skeleton.segments {
+        for (node, r) in [(s.from, s.radius[0]), (s.to, s.radius[1])] {
+            let (Some(&[x, y, z]), true) = (nodes.get(node), r.is_finite() && r > 0.0) else {
+                continue;
+            };
+            points.extend([
+                [x + r, y, z],
+                [x - r, y, z],
+                [x, y + r, z],
+                [x, y - r, z],
+                [x, y, z + r],
+                [x, y, z - r],
+            ]);
+        }
+    }
     let within = |p: &PrimitiveSpec| p.reference_point().distance(reach.center) <= reach.radius;
     for o in &state.obstacles {
         let reaching = |k: usize| {
@@ -135,6 +153,37 @@ mod tests {
             assert!(!is_planar(&f.transforms), "{name}");
         }
         assert!(!is_planar(&[]));
+    }
+
+    #[test]
+    fn a_fit_frames_the_volumes_and_not_only_the_spine() {
+        use super::super::draw::{SegmentView, SkeletonView};
+        let state = DrawState {
+            skeleton: SkeletonView {
+                nodes: vec![[0.0, 0.0, 0.0], [0.4, 0.0, 0.0]],
+                segments: vec![SegmentView {
+                    from: 0,
+                    to: 1,
+                    radius: [0.08, 0.05],
+                }],
+            },
+            ..DrawState::default()
+        };
+        let reach = Reach {
+            center: DVec3::ZERO,
+            radius: 1.0,
+        };
+        let points = fit_points(&state, &reach);
+        let (lo, hi) = points.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(DVec3::from(*p)), hi.max(DVec3::from(*p))),
+        );
+        // The box of the points holds both end spheres of the volume.
+        assert!(
+            (lo - DVec3::new(-0.08, -0.08, -0.08)).length() < 1e-12,
+            "{lo}"
+        );
+        assert!((hi - DVec3::new(0.45, 0.08, 0.08)).length() < 1e-12, "{hi}");
     }
 
     #[test]
