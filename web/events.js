@@ -131,7 +131,7 @@ export class EventFeed {
 
   /** Shows the new events of one frame, oldest first, at once. */
   push(events) {
-    // Without a log on screen (an embed, a phone) every kind is a notice.
+    // Without a log on screen (an embed with minimal controls) every kind is a notice.
     const logShown = Boolean(this.list?.getClientRects().length);
     for (const e of events) {
       const t = Number(e.t);
