@@ -6,8 +6,9 @@
 use glam::Vec3;
 
 use super::flat;
-use super::geometry::{self, ClipVertex, ShadedVertex, SolidInstance, Template};
+use super::geometry::{ClipVertex, ShadedVertex, SolidInstance};
 use super::solids::{Shading, Solids, Viewpoint};
+use crate::view::tessellation::Templates;
 use crate::view::{Camera, Scene, View};
 
 /// A GPU buffer of vertices, instances or indices that grows (by doubling)
@@ -96,16 +97,18 @@ pub(super) struct Lens {
     pub eye: Vec3,
     viewpoint: Viewpoint,
     /// Pixels a metre spans at unit distance (perspective) or anywhere
-    /// (orthographic), divided by the silhouette tolerance's factor.
+    /// (orthographic).
     pixels_per_metre: f32,
+    /// How far (px) a solid's outline may stray from the true circle.
+    tolerance: f32,
     perspective: bool,
 }
 
 impl Lens {
     /// The lens of `camera` on a drawing buffer `height` pixels high;
     /// `software`: the adapter is a software rasteriser, where every
-    /// triangle costs (`geometry::LEVELS`), and the solids' silhouettes
-    /// are kept within about 1.5 px instead of 0.75.
+    /// triangle costs, and the solids' outlines are kept within
+    /// [`SOFTWARE_TOLERANCE`] px instead of [`TOLERANCE`].
     pub fn new(camera: &Camera, height: f32, software: bool) -> Self {
         let perspective = camera.view == View::Orbit;
         let half = if perspective {
@@ -118,18 +121,21 @@ impl Lens {
         } else {
             Viewpoint::Along(-camera.backward())
         };
-        let tolerance = if software { SOFTWARE_TOLERANCE } else { 1.0 };
         Self {
             eye: camera.eye(),
             viewpoint,
-            pixels_per_metre: 0.5 * height / half.max(1e-6) / tolerance,
+            pixels_per_metre: 0.5 * height / half.max(1e-6),
+            tolerance: if software {
+                SOFTWARE_TOLERANCE
+            } else {
+                TOLERANCE
+            },
             perspective,
         }
     }
 
-    /// The level of detail of a solid: its larger radius in pixels, seen
-    /// from its nearer end.
-    fn level(&self, s: &SolidInstance) -> usize {
+    /// A solid's larger radius in pixels, seen from its nearer end.
+    fn pixels(&self, s: &SolidInstance) -> f32 {
         let radius = s.p0_r0[3].max(s.p1_r1[3]);
         let mut pixels = radius * self.pixels_per_metre;
         if self.perspective {
@@ -138,26 +144,27 @@ impl Lens {
                 .min(Vec3::from_slice(&s.p1_r1[..3]).distance(self.eye));
             pixels /= (near - radius).max(1e-3);
         }
-        geometry::level_for(pixels)
+        pixels
     }
 }
 
-/// How much coarser the solids are drawn on a software rasteriser: each
-/// level is used up to twice the radius (`geometry::LEVELS`), so a
-/// silhouette strays up to about 1.5 px from the true circle. On SwiftShader
-/// a triangle costs the GPU process about 1 µs whatever its size; in
-/// `human-panda` at 1280×800 (t = 4.6 s) this draws 11 760 solid triangles
-/// instead of 16 048 (7 642 in all instead of 9 600). Interleaved, four
-/// rounds: planar-transition ran at 56.9 fps instead of 50.4, human-panda
-/// (its camera changed too) at 41.3 instead of 34.9. On a GPU triangles
-/// cost next to nothing and the finer levels are kept.
-const SOFTWARE_TOLERANCE: f32 = 2.0;
+/// How far (px) a solid's outline may stray from the true circle
+/// (`view::tessellation`).
+const TOLERANCE: f32 = 0.75;
+
+/// The same on a software rasteriser, where every triangle costs the
+/// browser's GPU process about 2 µs whatever its size (SwiftShader): the
+/// solids are drawn twice as coarse. Interleaved, four rounds, on the
+/// machine of 2026-11-25: planar-transition ran at 56.9 fps instead of
+/// 50.4, human-panda at 41.3 instead of 34.9. On a GPU triangles cost next
+/// to nothing and the finer outline is kept.
+const SOFTWARE_TOLERANCE: f32 = 1.5;
 
 /// Every buffer the pipelines draw from.
 #[derive(Debug)]
 pub(super) struct Buffers {
     /// The capsule template at each level of detail.
-    templates: [Template; 3],
+    templates: Templates,
     /// This frame's solids, reused from frame to frame.
     tessellated: Solids,
     /// This frame's other vertices, reused from frame to frame.
@@ -183,7 +190,7 @@ impl Buffers {
     pub fn new(device: &wgpu::Device) -> Self {
         let instances = |label, stride| InstanceBuffer::new(device, label, stride);
         Self {
-            templates: geometry::capsule_templates(),
+            templates: Templates::default(),
             tessellated: Solids::default(),
             clip_vertices: Vec::new(),
             shaded_vertices: Vec::new(),
@@ -255,7 +262,7 @@ fn finite(values: &[[f32; 4]]) -> bool {
 /// dropped.
 fn tessellate(
     out: &mut Solids,
-    templates: &[Template; 3],
+    templates: &Templates,
     scene: &Scene,
     lens: &Lens,
     shading: &Shading<'_>,
@@ -284,10 +291,20 @@ fn tessellate(
     blend.sort_by(|x, y| depth(y).total_cmp(&depth(x)));
     out.clear();
     for s in &opaque {
-        out.push(s, &templates[lens.level(s)], shading, lens.viewpoint);
+        out.push(
+            s,
+            templates.for_radius(lens.pixels(s), lens.tolerance),
+            shading,
+            lens.viewpoint,
+        );
     }
     out.opaque_indices = out.indices.len() as u32;
     for s in &blend {
-        out.push(s, &templates[lens.level(s)], shading, lens.viewpoint);
+        out.push(
+            s,
+            templates.for_radius(lens.pixels(s), lens.tolerance),
+            shading,
+            lens.viewpoint,
+        );
     }
 }

@@ -15,7 +15,7 @@
 //! | `buffers.rs` | the per-frame vertex, index and instance buffers (opaque first, translucent back to front), the solids' level of detail |
 //! | `solids.rs` | capsules and spheres placed, lit and back-face culled on the CPU, drawn as one list of triangles |
 //! | `flat.rs` | lines (as quads in clip space), flat triangles and the grid, lit on the CPU |
-//! | `geometry.rs` | the vertex layouts, the capsule template at three levels of detail |
+//! | `geometry.rs` | the vertex layouts |
 //! | `shader.wgsl` | the shaders |
 //!
 //! Colours are sRGB-encoded in the scene; the renderer picks a non-sRGB
@@ -28,26 +28,32 @@
 //! solids, each sorted back to front (blended, depth tested, not written),
 //! so distance lines stay visible inside volumes and behind a glassy plane.
 //!
-//! Level of detail: each capsule or sphere is drawn with the coarsest of
-//! three templates (120, 280 or 504 triangles, about half of them facing
-//! the eye) that keeps its silhouette within about 0.75 px, from its radius
-//! on screen (1.5 px on a software rasteriser). A software rasteriser
-//! spends its time per triangle (about 1 µs on SwiftShader) and per draw:
-//! the solids are placed, lit and culled on the CPU (`solids.rs`) and
+//! Level of detail: each capsule or sphere is drawn with the fewest sectors
+//! around its axis that keep its outline within 0.75 px of the true circle,
+//! from its radius on screen (1.5 px on a software rasteriser), from 48
+//! triangles for a node a few pixels across up (`view::tessellation`),
+//! about half of them facing the eye. A software rasteriser spends its time
+//! per triangle (about 2 µs on SwiftShader) and per pixel rather than per
+//! draw: the solids are placed, lit and culled on the CPU (`solids.rs`) and
 //! reach it as two indexed draws of front faces, not one instance each.
 //!
 //! Cost on headless Chromium's SwiftShader (WebGPU, 1280×800, `npm run
-//! bench -- --frames`): placing, lighting and culling on the CPU took the
-//! GPU process's time per frame in `human-panda` from 38.1 to about 27 ms
-//! on the machine of 2026-11-25 (31 242 to 14 713 triangles) and the iiwa
-//! 14 with its simplified meshes from 53.9 to 27–29 ms. On a machine about
-//! half as fast (2026-11-27) a cleared canvas of the view's size alone
-//! costs about 24 ms and `human-panda` about 52; a drawing buffer smaller
-//! than the view saves little, the browser then scaling it (a quarter of
-//! the pixels saved about 9 ms, three quarters nothing measurable). The
-//! coarser solids of a software rasteriser took planar-transition from
-//! 50.4 to 56.9 fps there (interleaved A/B). The README gives the table,
-//! with the cleared canvas as its reference row.
+//! bench -- --frames`):
+//! - placing, lighting and culling on the CPU took the GPU process's time
+//!   per frame in `human-panda` from 38.1 to about 27 ms on the machine of
+//!   2026-11-25 (31 242 to 14 713 triangles), the iiwa 14 with its
+//!   simplified meshes from 53.9 to 27–29 ms; the coarser solids of a
+//!   software rasteriser took planar-transition from 50.4 to 56.9 fps;
+//! - on a machine about half as fast (2026-11-27) a cleared canvas of the
+//!   view's size alone costs about 25 ms; a drawing buffer smaller than the
+//!   view saves little, the browser then scaling it (a quarter of the
+//!   pixels saved about 9 ms, three quarters nothing measurable);
+//! - there, a level of detail per sector count instead of three fixed
+//!   levels halved `human-panda`'s triangles (7 141 to 3 813 drawn) and won
+//!   every round of an interleaved A/B (human-panda 34.7 against 32.5 fps,
+//!   chattering 46.4 against 39.8).
+//!
+//! The README gives the table, with the cleared canvas as its reference row.
 
 mod buffers;
 mod flat;

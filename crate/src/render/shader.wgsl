@@ -8,8 +8,9 @@
 // vertices and pass the colour on: a software rasteriser (SwiftShader)
 // shades vertices and fragments slowly, and `pow` per fragment once was most
 // of a frame. Flat triangles, lines and the grid have one colour per
-// primitive; the capsule template is fine enough (18 sectors, 7 rings per
-// cap) that lighting its vertices reads the same as lighting its pixels.
+// primitive; each solid is cut finely enough for its size on screen (its
+// outline within a pixel or so, view/tessellation.rs) that lighting its
+// vertices reads like lighting its pixels.
 
 struct Globals {
     view_proj: mat4x4<f32>,

@@ -16,7 +16,8 @@
 
 use glam::{Mat4, Vec2, Vec3};
 
-use super::geometry::{ShadedVertex, SolidInstance, Template};
+use super::geometry::{ShadedVertex, SolidInstance};
+use crate::view::tessellation::Template;
 
 /// The lights and the colour space, as the shaders have them.
 #[derive(Clone, Copy, Debug)]
@@ -102,11 +103,7 @@ impl Solids {
         let first = self.vertices.len() as u32;
         for t in &template.vertices {
             let n = u * t.dir[0] + v * t.dir[1] + axis * t.dir[2];
-            let (centre, radius) = if t.side > 0.5 {
-                (b, radii[1])
-            } else {
-                (a, radii[0])
-            };
+            let (centre, radius) = if t.at_b { (b, radii[1]) } else { (a, radii[0]) };
             let key = n.dot(shading.key_light).max(0.0);
             let head = n.dot(shading.to_camera).max(0.0);
             let light = 0.28 + 0.47 * key + 0.35 * head;

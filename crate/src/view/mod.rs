@@ -15,6 +15,7 @@
 //! | `framing.rs` | [`Reach`], [`is_planar`], [`fit_points`] |
 //! | `meshes.rs` | [`LinkMesh`]: a link's mesh in its row's frame (welded; closed surfaces turned outwards, drawn one-sided), placed each frame |
 //! | `stage.rs` | [`Stage`]: robot, pose, world, selection, display and camera together |
+//! | `tessellation.rs` | the capsule template the renderer places for each capsule and sphere, and its level of detail from the size on screen |
 //!
 //! Data flow of one frame: `World` → [`crate::world::WorldState`] →
 //! [`DrawState`] (moved, not copied) → [`build_scene`] → [`Scene`] → GPU.
@@ -26,6 +27,9 @@ mod meshes;
 mod scene;
 mod shapes;
 mod stage;
+// The solids' templates and level of detail, for the renderer (wasm32).
+#[cfg_attr(not(all(target_arch = "wasm32", feature = "render")), allow(dead_code))]
+pub(crate) mod tessellation;
 
 pub use camera::{Camera, View};
 pub use draw::{
