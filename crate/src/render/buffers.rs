@@ -150,15 +150,19 @@ impl Lens {
 
 /// How far (px) a solid's outline may stray from the true circle
 /// (`view::tessellation`).
-const TOLERANCE: f32 = 0.75;
+const TOLERANCE: f32 = 0.5;
 
 /// The same on a software rasteriser, where every triangle costs the
-/// browser's GPU process about 2 µs whatever its size (SwiftShader): the
-/// solids are drawn twice as coarse. Interleaved, four rounds, on the
-/// machine of 2026-11-25: planar-transition ran at 56.9 fps instead of
-/// 50.4, human-panda at 41.3 instead of 34.9. On a GPU triangles cost next
-/// to nothing and the finer outline is kept.
-const SOFTWARE_TOLERANCE: f32 = 1.5;
+/// browser's GPU process about 2 µs whatever its size (SwiftShader).
+/// Drawing the solids coarser there, with three fixed levels of detail,
+/// took planar-transition from 50.4 to 56.9 fps and human-panda from 34.9
+/// to 41.3 (interleaved, four rounds, the machine of 2026-11-25). With a
+/// level per sector count, 1.5 px left the larger circles of the 2D views
+/// visibly polygonal (a node 35 px across in `chattering` got 11 sides):
+/// 1 px gives it 14, as many as the fixed levels did, while the small
+/// solids, most of a scene, keep their few triangles. On a GPU triangles
+/// cost next to nothing and the finer outline is kept.
+const SOFTWARE_TOLERANCE: f32 = 1.0;
 
 /// Every buffer the pipelines draw from.
 #[derive(Debug)]

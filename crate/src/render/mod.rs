@@ -29,8 +29,8 @@
 //! so distance lines stay visible inside volumes and behind a glassy plane.
 //!
 //! Level of detail: each capsule or sphere is drawn with the fewest sectors
-//! around its axis that keep its outline within 0.75 px of the true circle,
-//! from its radius on screen (1.5 px on a software rasteriser), from 48
+//! around its axis that keep its outline within 0.5 px of the true circle,
+//! from its radius on screen (1 px on a software rasteriser), from 48
 //! triangles for a node a few pixels across up (`view::tessellation`),
 //! about half of them facing the eye. A software rasteriser spends its time
 //! per triangle (about 2 µs on SwiftShader) and per pixel rather than per
@@ -49,9 +49,10 @@
 //!   view saves little, the browser then scaling it (a quarter of the
 //!   pixels saved about 9 ms, three quarters nothing measurable);
 //! - there, a level of detail per sector count instead of three fixed
-//!   levels halved `human-panda`'s triangles (7 141 to 3 813 drawn) and won
-//!   every round of an interleaved A/B (human-panda 34.7 against 32.5 fps,
-//!   chattering 46.4 against 39.8).
+//!   levels took `human-panda`'s triangles from 7 141 to 4 114 and won
+//!   every round of an interleaved A/B in the 3D examples (human-panda 35.1
+//!   against 31.6 fps, lwr4-elbow 46.5 against 41.9); the 2D examples,
+//!   whose large circles keep their sectors, were unchanged.
 //!
 //! The README gives the table, with the cleared canvas as its reference row.
 

@@ -16,16 +16,18 @@
 //! solids of a scene are small (skeleton nodes, control points, margins, a
 //! person's hands and feet a few pixels across). Three fixed levels of 120,
 //! 280 and 504 triangles gave a node sphere 3 px across 120 triangles where
-//! 48 keep its outline; the levels per sector count drew `human-panda`'s
-//! solids with about half the triangles, their outlines within the same
-//! tolerance (numbers in the README's frame table).
+//! 48 keep its outline; the levels per sector count draw `human-panda`
+//! with 4 114 triangles instead of 7 141, its larger circles as finely cut
+//! as before (the renderer's tolerances: `render/buffers.rs`; the frame
+//! rates: the README's benchmarks).
 
-/// Fewest sectors a solid is drawn with: a hexagon, within 0.75 px of the
-/// circle up to a radius of 5.6 px.
+/// Fewest sectors a solid is drawn with: a hexagon, within 0.5 px of the
+/// circle up to a radius of 3.7 px, within 1 px up to 7.5 px.
 pub(crate) const MIN_SECTORS: u32 = 6;
 
-/// Most sectors a solid is drawn with: within 0.75 px of the circle up to
-/// a radius of about 240 px; larger solids stray a little more.
+/// Most sectors a solid is drawn with: within 0.5 px of the circle up to
+/// a radius of about 160 px, 1 px up to 320 px; larger solids stray a
+/// little more.
 pub(crate) const MAX_SECTORS: u32 = 40;
 
 /// The fewest sectors (within [`MIN_SECTORS`]..=[`MAX_SECTORS`]) whose
@@ -155,7 +157,7 @@ mod tests {
 
     #[test]
     fn sectors_are_the_fewest_within_the_tolerance() {
-        for tolerance in [0.75_f32, 1.5] {
+        for tolerance in [0.5_f32, 1.0] {
             for k in 1..2000 {
                 let pixels = k as f32 * 0.25;
                 let n = sectors_for(pixels, tolerance);
@@ -241,7 +243,7 @@ mod tests {
     #[test]
     fn small_solids_get_few_triangles_and_large_ones_many() {
         let templates = Templates::default();
-        let triangles = |px| templates.for_radius(px, 0.75).triangles.len();
+        let triangles = |px| templates.for_radius(px, 0.5).triangles.len();
         assert_eq!(triangles(2.0), 48);
         assert!(triangles(30.0) < triangles(100.0));
         assert_eq!(
