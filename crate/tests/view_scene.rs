@@ -493,3 +493,56 @@ fn a_scenario_camera_sets_the_direction_and_a_fit_keeps_its_points_in_view() {
         "the person's place is framed without the camera's points"
     );
 }
+
+#[test]
+fn a_frame_is_drawn_only_when_the_picture_changes() {
+    let world = world_after("lwr4-elbow", 0);
+    let mut stage = Stage::new(None);
+    stage.set_robot(world.robot().clone()).unwrap();
+    let state = || DrawState::from(world.state());
+    stage.draw(state());
+    assert!(stage.frame().is_some(), "the first frame is drawn");
+    stage.drawn(true);
+    assert!(stage.frame().is_none(), "nothing changed");
+    // The same world handed again: the scene is rebuilt, found equal, and
+    // left out; the stage is clean afterwards.
+    stage.draw(state());
+    assert!(stage.frame().is_none());
+    assert!(!stage.is_dirty());
+    assert_eq!(stage.counts().drawn, 1);
+    assert_eq!(stage.counts().unchanged, 1);
+    // A step of the world moves the arm: a new frame.
+    let moved = world_after("lwr4-elbow", 200);
+    stage.draw(DrawState::from(moved.state()));
+    assert!(stage.frame().is_some());
+    // A frame the browser skipped is due again, even unchanged.
+    stage.drawn(false);
+    assert!(stage.frame().is_some());
+    stage.drawn(true);
+    // The camera alone changing, or a resize, needs a frame too.
+    stage.set_view(Some(View::Top));
+    assert!(stage.frame().is_some());
+    stage.drawn(true);
+    stage.touch();
+    assert!(stage.frame().is_some(), "a resize redraws the same scene");
+    stage.drawn(true);
+    stage.set_display(stage_display_without_grid());
+    assert!(
+        stage.frame().is_some(),
+        "a display option changes the scene"
+    );
+    assert_eq!(
+        stage.counts(),
+        skeleton_avoidance::view::FrameCounts {
+            drawn: 4,
+            unchanged: 1
+        }
+    );
+}
+
+fn stage_display_without_grid() -> skeleton_avoidance::view::Display {
+    skeleton_avoidance::view::Display {
+        grid: false,
+        ..Default::default()
+    }
+}

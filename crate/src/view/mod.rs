@@ -40,4 +40,4 @@ pub use framing::{Reach, fit_points, is_planar};
 pub use meshes::{LinkMesh, MAX_DRAWN_TRIANGLES, MESH_COLOR, draw_meshes, link_meshes};
 pub use scene::{Capsule, Grid, Line, Scene, Sphere, Triangle};
 pub use shapes::{Palette, THIN, UNCERTAINTY};
-pub use stage::{Display, Stage, parse_view};
+pub use stage::{Display, FrameCounts, Stage, parse_view};

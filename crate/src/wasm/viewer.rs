@@ -44,6 +44,11 @@ struct ViewerState {
     /// Triangles of the capsules and spheres at their level of detail,
     /// back faces included (what the level of detail alone decides).
     solid_triangles: u64,
+    /// Frames presented so far.
+    frames_drawn: u64,
+    /// Frames left out so far because their scene and camera were those on
+    /// screen.
+    frames_unchanged: u64,
     view: &'static str,
     /// The camera: eye azimuth and elevation (rad), distance to the target
     /// (m) and the target (m, world frame).
@@ -451,18 +456,17 @@ impl Viewer {
         Ok(())
     }
 
-    /// Draws one frame when anything changed since the last one (the canvas
-    /// keeps its picture otherwise); call it from `requestAnimationFrame`.
+    /// Draws one frame when the picture changed since the last one (the
+    /// canvas keeps its picture otherwise: an unchanged scene and camera
+    /// are not drawn again); call it from `requestAnimationFrame`.
     ///
     /// # Errors
     /// An `Error` when the drawing surface is lost for good.
     pub fn render(&mut self) -> Result<(), JsError> {
-        if !self.stage.is_dirty() {
-            // The canvas keeps the last frame: nothing to draw.
+        let Some((scene, camera)) = self.stage.frame() else {
             return Ok(());
-        }
-        let camera = *self.stage.camera();
-        self.renderer.update(self.stage.scene(), &camera);
+        };
+        self.renderer.update(scene, &camera);
         let presented = self
             .renderer
             .render()
@@ -494,7 +498,8 @@ impl Viewer {
     }
 
     /// A snapshot for tests and tools: `{ backend, surfaceFormat,
-    /// sampleCount, triangles, solidTriangles, view, width, height, dof, q,
+    /// sampleCount, triangles, solidTriangles, framesDrawn, framesUnchanged,
+    /// view, width, height, dof, q,
     /// nodes, screenNodes }`, where `triangles` are those drawn (the solids'
     /// faces turned away left out), `solidTriangles` those of the capsules
     /// and spheres at their level of detail, back faces included, and
@@ -513,6 +518,8 @@ impl Viewer {
             sample_count: self.renderer.sample_count(),
             triangles: self.renderer.triangles(),
             solid_triangles: self.renderer.solid_triangles(),
+            frames_drawn: self.stage.counts().drawn,
+            frames_unchanged: self.stage.counts().unchanged,
             view: camera.view.name(),
             camera: CameraState {
                 yaw: f64::from(camera.yaw),
