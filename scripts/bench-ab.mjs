@@ -10,9 +10,12 @@
 // browser and one window on WebGPU; the order of the two alternates from
 // round to round. Printed per example: both builds' medians (fps, GPU and
 // CPU ms per frame) and the median of the paired differences, with how many
-// rounds this build won.
+// rounds this build won. With `--drag`, the view is dragged a pixel to and
+// fro every frame (bench-frames.mjs), so that every frame draws: the way to
+// compare the cost of drawing where an example settles (a frame whose
+// picture is the one on screen is not drawn again).
 //
-//   npm run bench -- --frames --against /tmp/before [--only human-panda,chattering] [--rounds 4]
+//   npm run bench -- --frames --against /tmp/before [--only human-panda,chattering] [--rounds 4] [--drag]
 import fs from 'node:fs';
 import path from 'node:path';
 import { serve } from './serve.mjs';
@@ -34,14 +37,15 @@ export function againstSource(dir) {
   throw new Error(`--against ${dir}: neither a checkout (web/index.html and crate/pkg) nor a wasm package (skeleton_avoidance_bg.wasm)`);
 }
 
-/** One window of `row` on WebGPU in a fresh browser serving `source`. */
-async function oneWindow(source, row) {
+/** One window of `row` on WebGPU in a fresh browser serving `source` (the view dragged with `drag`). */
+async function oneWindow(source, row, drag) {
   const { launch } = await import('../tests/browser/chromium.mjs');
   const { server, url } = await serve({ port: 0, ...source });
   const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 } });
   try {
     const page = await browser.context.newPage();
-    return await measure(page, browser.profile, url, row.example, 'webgpu', { files: row.files, windows: 1 });
+    const m = await measure(page, browser.profile, url, row.example, 'webgpu', { files: row.files, windows: 1, drag });
+    return drag ? m.dragged : m;
   } finally {
     await browser.close();
     server.close();
@@ -49,7 +53,7 @@ async function oneWindow(source, row) {
 }
 
 /** Prints the A/B table; returns false when a build could not be made or measured. */
-export async function abTable(examples, { against, only = null, rounds = 4 }) {
+export async function abTable(examples, { against, only = null, rounds = 4, drag = false }) {
   let other;
   try {
     other = againstSource(against);
@@ -63,7 +67,7 @@ export async function abTable(examples, { against, only = null, rounds = 4 }) {
   }
   if (buildWasm('web') !== 0) return false;
   const sources = { this: {}, other };
-  console.log(`\n=== frame rate, this checkout (A) against ${path.resolve(against)} (B): WebGPU, 1280×800, running,`);
+  console.log(`\n=== frame rate, this checkout (A) against ${path.resolve(against)} (B): WebGPU, 1280×800, running${drag ? ', the view dragged' : ''},`);
   console.log(`    ${rounds} rounds, a fresh browser and one ${WINDOW_MS / 1000} s window per build and round, the order alternating`);
   const head = ['example'.padEnd(20), 'A fps'.padStart(6), 'B fps'.padStart(6), 'A−B'.padStart(6), 'A won'.padStart(6),
     'A GPU'.padStart(6), 'B GPU'.padStart(6), 'A CPU'.padStart(6), 'B CPU'.padStart(6)];
@@ -73,7 +77,7 @@ export async function abTable(examples, { against, only = null, rounds = 4 }) {
     const b = [];
     for (let r = 0; r < rounds; r++) {
       const order = r % 2 === 0 ? ['this', 'other'] : ['other', 'this'];
-      for (const which of order) (which === 'this' ? a : b).push(await oneWindow(sources[which], row));
+      for (const which of order) (which === 'this' ? a : b).push(await oneWindow(sources[which], row, drag));
     }
     const diffs = a.map((m, k) => m.fps - b[k].fps);
     const med = (ms, key) => median(ms.map((m) => m[key])).toFixed(1).padStart(6);

@@ -10,7 +10,8 @@
 //   npm run bench -- --frames     (only the frame-rate table; --only a,b
 //                                  measures those rows; --against <dir>
 //                                  measures this build against another,
-//                                  interleaved: bench-ab.mjs)
+//                                  interleaved: bench-ab.mjs; --drag
+//                                  drags the view so every frame draws)
 //   npm run bench -- --reach      (only the reach benchmark: NEO's 198 PR2
 //                                  problems and 100 random Panda problems,
 //                                  `cargo run --release --example reach`)
@@ -46,7 +47,7 @@ if (process.argv.includes('--frames')) {
   }
   const against = option('against');
   const ok = against
-    ? await abTable(exampleNames(), { against, only, rounds: Number(option('rounds') ?? 4) })
+    ? await abTable(exampleNames(), { against, only, rounds: Number(option('rounds') ?? 4), drag: process.argv.includes('--drag') })
     : await frameTable(exampleNames(), only);
   process.exit(ok ? 0 : 1);
 }
