@@ -62,13 +62,23 @@ export function browserSeconds(profile) {
   return { gpu: sum(mine.filter((p) => p.cmdline.includes('--type=gpu-process'))), all: sum(mine) };
 }
 
-/** rAF timestamps of `page` over `ms` milliseconds. */
+/**
+ * rAF timestamps of `page` over `ms` milliseconds, and the frames its
+ * playground's viewer presented between the first and the last of them
+ * (`null` on a page without the playground).
+ */
 const timestamps = (page, ms) => page.evaluate((ms) => new Promise((resolve) => {
+  const presented = () => window.playground?.app?.viewer?.state?.().framesDrawn ?? null;
   const ts = [];
+  let first = null;
   const tick = (t) => {
+    if (ts.length === 0) first = presented();
     ts.push(t);
     if (t - ts[0] < ms) requestAnimationFrame(tick);
-    else resolve(ts);
+    else {
+      const last = presented();
+      resolve({ ts, drawn: first === null || last === null ? null : last - first });
+    }
   };
   requestAnimationFrame(tick);
 }), ms);
@@ -150,9 +160,6 @@ export async function measure(page, profile, url, name, backend, { files = null,
   return { ...m, triangles, pageMs, dragged };
 }
 
-/** Frames the playground's viewer has presented so far (`null` elsewhere). */
-const framesDrawn = (page) => page.evaluate(() => window.playground?.state?.().framesDrawn ?? null);
-
 /**
  * `{ fps, drawn, p90, gpuMs, cpuMs }` of the page as it runs (medians over
  * `windows` windows): frames per second, of which `drawn` per second
@@ -169,15 +176,13 @@ export async function sample(page, profile, windows = WINDOWS) {
   const gpuMs = [];
   const cpuMs = [];
   for (let w = 0; w < windows; w++) {
-    const drawn0 = await framesDrawn(page);
     const cpu0 = browserSeconds(profile);
-    const ts = await timestamps(page, WINDOW_MS);
+    const { ts, drawn: presented } = await timestamps(page, WINDOW_MS);
     const cpu1 = browserSeconds(profile);
-    const drawn1 = await framesDrawn(page);
     const gaps = ts.slice(1).map((t, k) => t - ts[k]).sort((a, b) => a - b);
     const seconds = (ts.at(-1) - ts[0]) / 1000;
     fps.push(gaps.length / seconds);
-    if (drawn0 !== null) drawn.push((drawn1 - drawn0) / seconds);
+    if (presented !== null) drawn.push(presented / seconds);
     p90.push(gaps[Math.floor(0.9 * gaps.length)]);
     if (cpu0 !== null) {
       gpuMs.push((1000 * (cpu1.gpu - cpu0.gpu)) / gaps.length);
