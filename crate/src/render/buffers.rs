@@ -8,6 +8,7 @@ use glam::Vec3;
 use super::flat;
 use super::geometry::{ClipVertex, ShadedVertex, SolidInstance};
 use super::solids::{Shading, Solids, Viewpoint};
+use crate::view::occlusion::{Ends, Occluder, Occluders};
 use crate::view::tessellation::Templates;
 use crate::view::{Camera, Scene, View};
 
@@ -102,6 +103,8 @@ pub(super) struct Lens {
     /// How far (px) a solid's outline may stray from the true circle.
     tolerance: f32,
     perspective: bool,
+    /// The near clipping plane's distance in front of the eye (perspective).
+    near: Option<f32>,
 }
 
 impl Lens {
@@ -131,6 +134,7 @@ impl Lens {
                 TOLERANCE
             },
             perspective,
+            near: camera.near_plane(),
         }
     }
 
@@ -171,6 +175,8 @@ pub(super) struct Buffers {
     templates: Templates,
     /// This frame's solids, reused from frame to frame.
     tessellated: Solids,
+    /// The opaque solids that may hide others' triangles.
+    occluders: Occluders,
     /// This frame's other vertices, reused from frame to frame.
     clip_vertices: Vec<ClipVertex>,
     shaded_vertices: Vec<ShadedVertex>,
@@ -196,6 +202,7 @@ impl Buffers {
         Self {
             templates: Templates::default(),
             tessellated: Solids::default(),
+            occluders: Occluders::default(),
             clip_vertices: Vec::new(),
             shaded_vertices: Vec::new(),
             solid_vertices: instances("solid vertices", std::mem::size_of::<ShadedVertex>()),
@@ -222,7 +229,13 @@ impl Buffers {
         shading: &Shading<'_>,
     ) {
         let solids = &mut self.tessellated;
-        tessellate(solids, &self.templates, scene, lens, shading);
+        tessellate(
+            (solids, &mut self.occluders),
+            &self.templates,
+            scene,
+            lens,
+            shading,
+        );
         self.counts.solid_opaque = solids.opaque_indices;
         self.counts.solids = solids.indices.len() as u32;
         self.solid_vertices
@@ -263,9 +276,10 @@ fn finite(values: &[[f32; 4]]) -> bool {
 
 /// Capsules and spheres as lit front faces into `out`, opaque first, then
 /// translucent ones back to front; items with a non-finite value are
-/// dropped.
+/// dropped, and triangles inside an opaque solid left out
+/// (`view::occlusion`).
 fn tessellate(
-    out: &mut Solids,
+    (out, occluders): (&mut Solids, &mut Occluders),
     templates: &Templates,
     scene: &Scene,
     lens: &Lens,
@@ -293,22 +307,30 @@ fn tessellate(
         mid.distance_squared(lens.eye)
     };
     blend.sort_by(|x, y| depth(y).total_cmp(&depth(x)));
+    let template = |s: &SolidInstance| templates.for_radius(lens.pixels(s), lens.tolerance);
+    let eye = lens.near.map(|near| (lens.eye, near));
+    occluders.clear();
+    for s in &opaque {
+        occluders.push(Occluder::new(ends(s), template(s), eye));
+    }
+    let add = |out: &mut Solids, occluders: &mut Occluders, s: &SolidInstance| {
+        occluders.select_near(&ends(s));
+        out.push(s, template(s), shading, (lens.viewpoint, occluders));
+    };
     out.clear();
     for s in &opaque {
-        out.push(
-            s,
-            templates.for_radius(lens.pixels(s), lens.tolerance),
-            shading,
-            lens.viewpoint,
-        );
+        add(out, occluders, s);
     }
     out.opaque_indices = out.indices.len() as u32;
     for s in &blend {
-        out.push(
-            s,
-            templates.for_radius(lens.pixels(s), lens.tolerance),
-            shading,
-            lens.viewpoint,
-        );
+        add(out, occluders, s);
+    }
+}
+
+fn ends(s: &SolidInstance) -> Ends {
+    Ends {
+        a: Vec3::from_slice(&s.p0_r0[..3]),
+        b: Vec3::from_slice(&s.p1_r1[..3]),
+        radii: [s.p0_r0[3], s.p1_r1[3]],
     }
 }

@@ -13,7 +13,7 @@
 //! | `gpu.rs` | surface and device setup: backends, adapter, device, surface format, multisampling, attachments |
 //! | `pipelines.rs` | the uniforms, their bind group, one pipeline per primitive and blending |
 //! | `buffers.rs` | the per-frame vertex, index and instance buffers (opaque first, translucent back to front), the solids' level of detail |
-//! | `solids.rs` | capsules and spheres placed, lit and back-face culled on the CPU, drawn as one list of triangles |
+//! | `solids.rs` | capsules and spheres placed, lit and back-face culled on the CPU (and their triangles inside opaque ones left out, `view::occlusion`), drawn as one list of triangles |
 //! | `flat.rs` | lines (as quads in clip space), flat triangles and the grid, lit on the CPU |
 //! | `geometry.rs` | the vertex layouts |
 //! | `shader.wgsl` | the shaders |

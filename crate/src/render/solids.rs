@@ -4,7 +4,8 @@
 //! asks for) moved to its end points and radii, lit per vertex as the
 //! shaders light everything else, and encoded to the surface's colour
 //! space. Triangles facing away from the eye are left out: the solids are
-//! closed, so they would be culled anyway. Every solid of a frame then goes
+//! closed, so they would be culled anyway; so are those inside an opaque
+//! solid of equal radii, which its surface hides (`view::occlusion`). Every solid of a frame then goes
 //! to the rasteriser as one indexed draw for the opaque ones and one for the
 //! translucent ones (back to front). A software rasteriser (SwiftShader)
 //! runs each instance of an instanced draw as a draw of its own, with its
@@ -17,6 +18,7 @@
 use glam::{Mat4, Vec2, Vec3};
 
 use super::geometry::{ShadedVertex, SolidInstance};
+use crate::view::occlusion::Occluders;
 use crate::view::tessellation::Template;
 
 /// The lights and the colour space, as the shaders have them.
@@ -70,6 +72,8 @@ pub(super) struct Solids {
     pub opaque_indices: u32,
     /// Triangles of the templates, back faces included.
     pub detail: u64,
+    /// For each vertex of the solid being added, the occluders hiding it.
+    masks: Vec<u32>,
 }
 
 impl Solids {
@@ -81,13 +85,14 @@ impl Solids {
         self.detail = 0;
     }
 
-    /// Adds `solid` drawn with `template`.
+    /// Adds `solid` drawn with `template`: its triangles that face the
+    /// viewpoint, but not those inside one of the occluders chosen near it.
     pub fn push(
         &mut self,
         solid: &SolidInstance,
         template: &Template,
         shading: &Shading<'_>,
-        viewpoint: Viewpoint,
+        (viewpoint, occluders): (Viewpoint, &Occluders),
     ) {
         let a = Vec3::from_slice(&solid.p0_r0[..3]);
         let b = Vec3::from_slice(&solid.p1_r1[..3]);
@@ -113,10 +118,24 @@ impl Solids {
                 color: [r, g, bl, solid.color[3]],
             });
         }
-        let position =
-            |k: u16| Vec3::from_array(self.vertices[(first + u32::from(k)) as usize].position);
+        let placed = &self.vertices[first as usize..];
+        let position = |k: u16| Vec3::from_array(placed[usize::from(k)].position);
+        self.masks.clear();
+        if occluders.any_near() {
+            let masks = placed
+                .iter()
+                .map(|v| occluders.mask(Vec3::from(v.position)));
+            self.masks.extend(masks);
+        }
+        let hidden = |tri: &[u16; 3]| {
+            !self.masks.is_empty()
+                && tri
+                    .iter()
+                    .fold(u32::MAX, |m, &k| m & self.masks[usize::from(k)])
+                    != 0
+        };
         for tri in &template.triangles {
-            if !viewpoint.faces_away(tri.map(position)) {
+            if !viewpoint.faces_away(tri.map(position)) && !hidden(tri) {
                 self.indices.extend(tri.map(|k| first + u32::from(k)));
             }
         }

@@ -48,6 +48,10 @@ const ORBIT_PER_PIXEL: f32 = 0.008;
 /// Pitch stays this far from the poles (rad), so "up" is always defined.
 const PITCH_LIMIT: f32 = 1.55;
 
+/// The near clipping plane in front of the eye, as a fraction of the
+/// distance to the target (perspective).
+const NEAR: f32 = 0.01;
+
 /// An orbit / pan / zoom camera.
 ///
 /// The eye sits `distance` metres from `target`; in the 2D views the same
@@ -213,7 +217,7 @@ impl Camera {
             View::Orbit => directx::perspective(
                 self.fov_y,
                 aspect,
-                0.01 * self.distance,
+                NEAR * self.distance,
                 100.0 * self.distance,
             ),
             _ => {
@@ -224,6 +228,14 @@ impl Camera {
             }
         };
         proj * view
+    }
+
+    /// How far the near clipping plane is in front of the eye (m), in
+    /// perspective; `None` for an orthographic view, whose depth range
+    /// holds the whole scene.
+    #[must_use]
+    pub fn near_plane(&self) -> Option<f32> {
+        (self.view == View::Orbit).then_some(NEAR * self.distance)
     }
 
     /// Half the height of the visible region at the target (m).

@@ -15,6 +15,7 @@
 //! | `framing.rs` | [`Reach`], [`is_planar`], [`fit_points`] |
 //! | `meshes.rs` | [`LinkMesh`]: a link's mesh in its row's frame (welded; closed surfaces turned outwards, drawn one-sided), placed each frame |
 //! | `stage.rs` | [`Stage`]: robot, pose, world, selection, display and camera together |
+//! | `occlusion.rs` | which triangles of a capsule or sphere lie inside an opaque one (not drawn) |
 //! | `tessellation.rs` | the capsule template the renderer places for each capsule and sphere, and its level of detail from the size on screen |
 //!
 //! Data flow of one frame: `World` → [`crate::world::WorldState`] →
@@ -27,7 +28,10 @@ mod meshes;
 mod scene;
 mod shapes;
 mod stage;
-// The solids' templates and level of detail, for the renderer (wasm32).
+// The solids' templates and level of detail, and which of their triangles
+// opaque solids hide, for the renderer (wasm32).
+#[cfg_attr(not(all(target_arch = "wasm32", feature = "render")), allow(dead_code))]
+pub(crate) mod occlusion;
 #[cfg_attr(not(all(target_arch = "wasm32", feature = "render")), allow(dead_code))]
 pub(crate) mod tessellation;
 

@@ -66,6 +66,13 @@ pub(crate) struct TemplateVertex {
 pub(crate) struct Template {
     pub vertices: Vec<TemplateVertex>,
     pub triangles: Vec<[u16; 3]>,
+    /// The radius, as a fraction of the solid's, of the largest ball about
+    /// a point of the axis that the drawn solid holds: the least distance
+    /// of a face's plane from the centre of the unit sphere drawn with this
+    /// template. With equal radii the drawn capsule is that polytope swept
+    /// along the axis, so it holds every point nearer to the axis than
+    /// `inner` times the radius (`render::occlusion`).
+    pub inner: f32,
 }
 
 /// The templates of every sector count, built once.
@@ -138,9 +145,19 @@ fn capsule_template(rings: u32, sectors: u32) -> Template {
             }
         }
     }
+    // The band's triangles have no area on the sphere: they are the faces
+    // the sweep along the axis adds.
+    let inner = triangles
+        .iter()
+        .filter_map(|tri| {
+            let [p, q, r] = tri.map(|k| glam::Vec3::from(vertices[usize::from(k)].dir));
+            Some((q - p).cross(r - p).try_normalize()?.dot(p))
+        })
+        .fold(1.0_f32, f32::min);
     Template {
         vertices,
         triangles,
+        inner,
     }
 }
 
