@@ -22,7 +22,8 @@ const STATE_CHANGES = new Set(['stop', 'resume', 'chattering', 'unavoidable', 'l
 const BURST_GAP = 0.5;
 /** How long a merged notice stays after its last event (ms of wall time). */
 const NOTICE_MS = 3500;
-/** Most notices shown at once (pinned ones first). */
+/** Most notices kept at once (pinned ones first); the first alone is shown
+ * until the person asks for the others: the view is for the arm. */
 const MAX_NOTICES = 4;
 /** Most rows kept in the log. */
 const MAX_LOG = 400;
@@ -72,12 +73,18 @@ const tText = (a, b) => (b - a > 5e-4 ? `t ${a.toFixed(3)}–${b.toFixed(3)} s` 
 
 export class EventFeed {
   /**
-   * @param {{ notices: HTMLElement, log?: HTMLElement, onSeek?: (t: number) => void }} parts
-   *   `notices` over the view; `log`, when given, receives the log's list and filter.
+   * @param {{ notices: HTMLElement, log?: HTMLElement, onSeek?: (t: number) => void, onNotices?: () => void }} parts
+   *   `notices` over the view; `log`, when given, receives the log's list and filter;
+   *   `onNotices` is called when notices come or go (to place them).
    */
-  constructor({ notices, log, onSeek }) {
+  constructor({ notices, log, onSeek, onNotices }) {
     this.notices = notices;
     this.onSeek = onSeek;
+    this.onNotices = onNotices;
+    // One line over the view: the first notice, and how many more there are.
+    this.more = h('button', { type: 'button', class: 'more', hidden: true, 'aria-expanded': 'false',
+      onclick: () => this.expand(!this.notices.classList.contains('expanded')) });
+    notices.append(this.more);
     this.stopped = false;
     this.live = new Map();
     this.rows = [];
@@ -103,7 +110,8 @@ export class EventFeed {
     this.suppressed = 0;
     for (const n of this.live.values()) clearTimeout(n.timer);
     this.live.clear();
-    this.notices.replaceChildren();
+    this.notices.replaceChildren(this.more);
+    this.expand(false);
     this.rows = [];
     this.list?.replaceChildren();
     if (this.empty) this.empty.hidden = false;
@@ -162,11 +170,14 @@ export class EventFeed {
       n = { el, text, t0: t, t1: t, count: 1, last: e, pinned };
       this.live.set(key, n);
       if (pinned) this.notices.prepend(el);
-      else this.notices.append(el);
+      else this.notices.insertBefore(el, this.more);
       this.trimNotices();
+      this.changed();
     }
     const many = n.count > 1 ? `${kindLabel(e.kind)} ×${n.count}` : describe(e);
     n.text.textContent = `${tText(n.t0, n.t1)} · ${many}`;
+    // Two lines at most are shown; the whole sentence on hover (and in the log).
+    n.el.title = n.text.textContent;
     if (!n.pinned) {
       clearTimeout(n.timer);
       n.timer = setTimeout(() => this.retire(key), NOTICE_MS);
@@ -179,6 +190,23 @@ export class EventFeed {
     clearTimeout(n.timer);
     n.el.remove();
     this.live.delete(key);
+    this.changed();
+  }
+
+  /** Shows all notices (`true`) or the first alone. */
+  expand(all) {
+    this.notices.classList.toggle('expanded', all);
+    this.more.setAttribute('aria-expanded', String(all));
+    this.changed();
+  }
+
+  changed() {
+    const others = this.live.size - 1;
+    const all = this.notices.classList.contains('expanded');
+    this.more.hidden = others < 1;
+    this.more.textContent = all ? 'fewer' : `+${others}`;
+    this.more.title = all ? 'show the first notice only' : `show ${others} more notice${others > 1 ? 's' : ''}`;
+    this.onNotices?.();
   }
 
   trimNotices() {
@@ -232,7 +260,7 @@ export class EventFeed {
   /** What the feed shows now, for tests: `{ notices: [text], log: [text], suppressed }`. */
   snapshot() {
     return {
-      notices: [...this.notices.children].map((n) => n.firstChild.textContent),
+      notices: [...this.notices.querySelectorAll('.notice')].map((n) => n.firstChild.textContent),
       pinned: [...this.live.values()].filter((n) => n.pinned).map((n) => n.text.textContent),
       log: this.rows.map((r) => r.el.textContent),
       suppressed: this.suppressed,

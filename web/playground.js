@@ -16,6 +16,7 @@ import { presetMeshMethods } from './preset-meshes.js';
 import { pinMethods, withoutPins } from './pinning.js';
 import { PRESETS, applyDh, buildPanel, fillPresets, refreshObstacleList, refreshPanel, refreshSelected, robotRows } from './panel.js';
 import { TimePlot } from './plots.js';
+import { armPoints, followStats, placeNotices } from './notice-place.js';
 import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, useLibrary } from './shapes.js';
 import { STYLE } from './style.js';
 import { loadWasm } from './wasm.js';
@@ -110,6 +111,7 @@ export class Playground {
       h('table', {}, HELP.map(([k, what]) => h('tr', {}, h('td', {}, h('kbd', {}, k)), h('td', {}, what)))),
       h('p', { class: 'hint' }, 'Press ? or Escape to close.'));
     const stage = h('div', { class: 'stage' }, this.canvas, this.statsBox, this.hud, this.notices, this.hintBox, this.errorBox, this.helpBox);
+    followStats(stage, this.statsBox);
     // A folder, a zip or files holding a URDF and its meshes, dropped on the view.
     stage.addEventListener('dragover', (e) => e.preventDefault());
     stage.addEventListener('drop', (e) => this.dropUrdf(e));
@@ -128,7 +130,9 @@ export class Playground {
     const plots = h('div', { class: 'plots' }, this.shownPlots.map((k) => this.plots[k].element));
     const log = this.controls === 'full' ? h('section', { class: 'log', id: 'log', 'aria-label': 'event log' }) : null;
     if (log) plots.append(log);
-    this.events = new EventFeed({ notices: this.notices, log, onSeek: (t) => this.seek(t) });
+    // Notices go to the corner of the view that hides the least of the arm.
+    const place = () => this.viewer && placeNotices(this.notices, this.canvas, armPoints(this.guard(() => this.viewer.state())?.screenNodes, window.devicePixelRatio || 1));
+    this.events = new EventFeed({ notices: this.notices, log, onSeek: (t) => this.seek(t), onNotices: place });
     this.trace = new TraceRecorder();
 
     const cls = `sp ${this.controls}${this.options.plot ? ' with-plot' : ''}${this.options.stats ? ' with-stats' : ''}`;

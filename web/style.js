@@ -19,10 +19,17 @@ export const STYLE = `
        font: 12px/1.35 ui-monospace, monospace; white-space: pre-wrap; pointer-events: none; max-width: calc(50% - 0.75rem); }
 .stats { left: 0.5rem; padding: 0.2rem 0.45rem; color: #3a4150; }
 .hud { right: 0.5rem; padding: 0.25rem 0.5rem; }
-.notices { position: absolute; left: 0.5rem; bottom: 0.5rem; display: flex; flex-direction: column; gap: 0.25rem;
-           max-width: min(34rem, calc(100% - 8rem)); pointer-events: none; }
-.notice { background: rgba(29,35,48,0.8); color: #fff; border-radius: 4px; padding: 0.2rem 0.5rem; font-size: 12px; display: flex; gap: 0.5rem; align-items: baseline; }
-.notice span { flex: 1; }
+.notices { position: absolute; left: 0.5rem; bottom: 0.5rem; display: grid; grid-template-columns: minmax(0, auto) auto; align-items: start;
+           justify-items: start; gap: 0.25rem; max-width: min(34rem, calc(100% - 8rem)); pointer-events: none; }
+.notices[data-corner="top-left"] { top: var(--notices-top, 0.5rem); bottom: auto; max-width: min(34rem, calc(50% - 0.75rem)); }
+.notices[data-corner="bottom-right"] { left: auto; right: 0.5rem; }
+.notices:not(.expanded) .notice ~ .notice { display: none; }
+.notices .more { grid-column: 2; grid-row: 1; pointer-events: auto; font-size: 11px; padding: 0.1rem 0.35rem; border-radius: 4px;
+                 border: 1px solid #c9ced8; background: #fff; color: #1d2330; cursor: pointer; }
+.notice { grid-column: 1; max-width: 100%; background: rgba(29,35,48,0.8); color: #fff; border-radius: 4px; padding: 0.2rem 0.5rem; font-size: 12px;
+          display: flex; gap: 0.5rem; align-items: baseline; }
+.notice span { flex: 1; min-width: 0; white-space: nowrap; overflow: hidden; text-overflow: ellipsis; }
+.notices.expanded .notice span { white-space: normal; }
 .notice.pinned { background: rgba(165,39,20,0.85); pointer-events: auto; box-shadow: 0 1px 4px rgba(0,0,0,0.25); }
 .notice.lock, .notice.switchRisk, .notice.transitionTooSlow { background: rgba(122,75,0,0.8); }
 .notice .dismiss { background: transparent; color: #fff; border: 1px solid rgba(255,255,255,0.6); border-radius: 3px; cursor: pointer; font-size: 12px; line-height: 1; padding: 0.1rem 0.35rem; }
@@ -90,7 +97,6 @@ button:focus-visible, select:focus-visible, input:focus-visible { outline: 2px s
 .sp.minimal .plots, .sp.none .plots { display: none; }
 .sp.minimal .hud, .sp.none .hud { font-size: 11px; padding: 0.1rem 0.35rem; }
 .sp.minimal .notice, .sp.none .notice { font-size: 11px; padding: 0.05rem 0.35rem; }
-.sp.minimal .notice:not(.pinned):nth-last-child(n+3), .sp.none .notice:not(.pinned):nth-last-child(n+3) { display: none; }
 .sp.minimal:not(.with-stats) .stats, .sp.none:not(.with-stats) .stats { display: none; }
 .sp.minimal.with-plot .plots { display: grid; grid-template-columns: minmax(0, 1fr); height: 9rem; }
 @container sp (max-width: 900px) {
@@ -99,6 +105,7 @@ button:focus-visible, select:focus-visible, input:focus-visible { outline: 2px s
                     transition: transform 0.15s; box-shadow: -2px 0 10px rgba(0,0,0,0.15); visibility: hidden; }
   .sp.full.panel-open .panel { transform: none; visibility: visible; }
   .panel-toggle { display: block; }
+  .notices[data-corner="bottom-right"] { bottom: 2.6rem; }
   .sp.full.panel-open .panel-toggle { right: calc(min(22rem, 92%) + 0.5rem); }
 }
 @container sp (max-width: 700px) {
@@ -108,6 +115,6 @@ button:focus-visible, select:focus-visible, input:focus-visible { outline: 2px s
   .sp.full { grid-template-rows: minmax(0, 1fr) 13rem; }
   .plots { grid-template-columns: minmax(0, 1fr); grid-auto-rows: 10rem; }
   .stats, .hud { font-size: 10.5px; }
-  .notices { max-width: calc(100% - 1rem); bottom: 2.6rem; }
+  .notices, .notices[data-corner] { left: 0.5rem; right: auto; top: auto; bottom: 2.6rem; max-width: calc(100% - 1rem); }
 }
 `;

@@ -1,7 +1,8 @@
 // The playground as its users meet it (issue 11), in headless Chromium with
 // real mouse, wheel, touch and keyboard input: the view framed on load, Fit,
 // double click and Reset; events merged, the stop pinned and routine travel
-// logged rather than shown over the view beside a log; embedded
+// logged rather than shown over the view beside a log, one notice line in
+// the corner that leaves the stopped arm in view; embedded
 // widgets that let the page scroll and start when scrolled into view; the
 // layout at 1280×800, 800×600 and 390×844; the DH editor's refusals; the
 // trace export; keyboard operation.
@@ -185,11 +186,53 @@ test('chattering: the stop stays pinned, bursts are merged, a stopped arm logs n
     assert.ok(shown.length > 0 && shown.every((t) => /stopped|chattering|error|collision/.test(t)), `filtered: ${shown}`);
     await page.locator('.log-row.stop').click();
     assert.equal((await state(page)).running, false, 'seeking pauses');
+    // One line over the view: the others fold behind "+n".
+    const more = page.locator('#notices .more');
+    assert.match(await more.innerText(), /^\+\d+$/);
+    assert.equal(await page.locator('.notice.chattering').isVisible(), false, 'the chattering notice is folded');
+    await more.click();
+    assert.ok(await page.locator('.notice.chattering').isVisible(), 'unfolded');
+    assert.equal(await more.innerText(), 'fewer');
     await page.locator('.notice.stop .dismiss').click();
     assert.equal(await page.locator('.notice.stop').count(), 0, 'dismissed');
     assert.deepEqual(errors, []);
   } finally {
     await browser.close();
+  }
+});
+
+test('a stop\'s notices leave the arm in view: they sit under the stats, in the band the fit keeps clear (1280×800, 800×600)', async () => {
+  for (const [width, height] of [[1280, 800], [800, 600]]) {
+    const browser = await launch({ webgpu: true, viewport: { width, height } });
+    try {
+      const page = await browser.context.newPage();
+      const errors = collectErrors(page);
+      for (const example of ['chattering', 'human-reach']) {
+        await open(page, `?scenario=${example}`);
+        await page.waitForFunction(() => window.playground.state().world.stopped, null, { timeout: 30000 });
+        await page.locator('.notice.pinned').first().waitFor({ state: 'visible', timeout: 10000 });
+        await frames(page, 3);
+        const s = await state(page);
+        const view = await page.locator('#view').boundingBox();
+        const boxes = await page.locator('.notice').evaluateAll((els) => els.map((e) => {
+          const r = e.getBoundingClientRect();
+          return { x: r.x, y: r.y, w: r.width, h: r.height };
+        }));
+        assert.ok(boxes.length >= 1, `${example}: notices shown`);
+        // The arm on screen: its nodes and ten points along each link.
+        const nodes = s.screenNodes.filter(Boolean).map(([x, y]) => [view.x + x, view.y + y]);
+        const arm = nodes.flatMap((p, k) => (k === 0 ? [p] : Array.from({ length: 10 }, (_, i) => {
+          const t = (i + 1) / 10;
+          return [nodes[k - 1][0] + t * (p[0] - nodes[k - 1][0]), nodes[k - 1][1] + t * (p[1] - nodes[k - 1][1])];
+        })));
+        const covered = arm.filter(([x, y]) => boxes.some((b) => x >= b.x && x <= b.x + b.w && y >= b.y && y <= b.y + b.h));
+        await page.screenshot({ path: path.join(artifacts, `notices-${example}-${width}x${height}.png`) });
+        assert.deepEqual(covered, [], `${example} at ${width}×${height}: notices ${JSON.stringify(boxes)} cover the arm`);
+      }
+      assert.deepEqual(errors, []);
+    } finally {
+      await browser.close();
+    }
   }
 });
 
