@@ -9,7 +9,7 @@ use super::flat;
 use super::geometry::{ClipVertex, ShadedVertex, SolidInstance};
 use super::solids::{Shading, Solids, Viewpoint};
 use crate::view::occlusion::{Ends, Occluder, Occluders};
-use crate::view::tessellation::Templates;
+use crate::view::tessellation::{self, Templates};
 use crate::view::{Camera, Scene, View};
 
 /// A GPU buffer of vertices, instances or indices that grows (by doubling)
@@ -114,11 +114,6 @@ impl Lens {
     /// [`SOFTWARE_TOLERANCE`] px instead of [`TOLERANCE`].
     pub fn new(camera: &Camera, height: f32, software: bool) -> Self {
         let perspective = camera.view == View::Orbit;
-        let half = if perspective {
-            (0.5 * camera.fov_y).tan()
-        } else {
-            camera.half_height()
-        };
         let viewpoint = if perspective {
             Viewpoint::Eye(camera.eye())
         } else {
@@ -127,12 +122,9 @@ impl Lens {
         Self {
             eye: camera.eye(),
             viewpoint,
-            pixels_per_metre: 0.5 * height / half.max(1e-6),
-            tolerance: if software {
-                SOFTWARE_TOLERANCE
-            } else {
-                TOLERANCE
-            },
+            // At a metre from the eye in perspective.
+            pixels_per_metre: camera.pixels_per_metre(height, 1.0),
+            tolerance: tessellation::tolerance(software),
             perspective,
             near: camera.near_plane(),
         }
@@ -151,22 +143,6 @@ impl Lens {
         pixels
     }
 }
-
-/// How far (px) a solid's outline may stray from the true circle
-/// (`view::tessellation`).
-const TOLERANCE: f32 = 0.5;
-
-/// The same on a software rasteriser, where every triangle costs the
-/// browser's GPU process about 2 µs whatever its size (SwiftShader).
-/// Drawing the solids coarser there, with three fixed levels of detail,
-/// took planar-transition from 50.4 to 56.9 fps and human-panda from 34.9
-/// to 41.3 (interleaved, four rounds, the machine of 2026-11-25). With a
-/// level per sector count, 1.5 px left the larger circles of the 2D views
-/// visibly polygonal (a node 35 px across in `chattering` got 11 sides):
-/// 1 px gives it 14, as many as the fixed levels did, while the small
-/// solids, most of a scene, keep their few triangles. On a GPU triangles
-/// cost next to nothing and the finer outline is kept.
-const SOFTWARE_TOLERANCE: f32 = 1.0;
 
 /// Every buffer the pipelines draw from.
 #[derive(Debug)]

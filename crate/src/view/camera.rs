@@ -238,6 +238,19 @@ impl Camera {
         (self.view == View::Orbit).then_some(NEAR * self.distance)
     }
 
+    /// Pixels a metre spans on a view `height` pixels high, seen from
+    /// `distance` metres in perspective (at least a millimetre); anywhere
+    /// in an orthographic view.
+    #[must_use]
+    pub fn pixels_per_metre(&self, height: f32, distance: f32) -> f32 {
+        let half = if self.view == View::Orbit {
+            (0.5 * self.fov_y).tan() * distance.max(1e-3)
+        } else {
+            self.half_height()
+        };
+        0.5 * height / half.max(1e-6)
+    }
+
     /// Half the height of the visible region at the target (m).
     #[must_use]
     pub fn half_height(&self) -> f32 {

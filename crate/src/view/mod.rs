@@ -41,7 +41,10 @@ pub use draw::{
     UncertaintyView, build_scene, style,
 };
 pub use framing::{Reach, fit_points, is_planar};
-pub use meshes::{LinkMesh, MAX_DRAWN_TRIANGLES, MESH_COLOR, draw_meshes, link_meshes};
+pub use meshes::{
+    Detail, LinkMesh, MAX_DRAWN_TRIANGLES, MESH_COLOR, MIN_LEVEL_TRIANGLES, MeshLevel, draw_meshes,
+    link_meshes,
+};
 pub use scene::{Capsule, Grid, Line, Scene, Sphere, Triangle};
 pub use shapes::{Palette, THIN, UNCERTAINTY};
 pub use stage::{Display, FrameCounts, Stage, parse_view};

@@ -21,7 +21,7 @@ use serde::Deserialize;
 use super::camera::{Camera, View};
 use super::draw::{DrawOptions, DrawState, SegmentView, SkeletonView, build_scene};
 use super::framing::{Reach, fit_points, is_planar};
-use super::meshes::{LinkMesh, draw_meshes};
+use super::meshes::{Detail, LinkMesh, draw_meshes};
 use super::scene::{Grid, Scene};
 use crate::error::FieldError;
 use crate::kinematics::Robot;
@@ -106,6 +106,9 @@ pub struct Stage {
     /// Frames presented, and frames due that were left out because their
     /// picture was the one on screen.
     counts: FrameCounts,
+    /// The view's height and the tolerance (pixels) link meshes are drawn
+    /// within ([`Stage::set_detail`]); `None`: full meshes.
+    detail: Option<(f32, f32)>,
 }
 
 /// How many frames a stage had drawn ([`Stage::counts`]).
@@ -144,6 +147,7 @@ impl Stage {
             dirty: true,
             presented: None,
             counts: FrameCounts::default(),
+            detail: None,
         }
     }
 
@@ -234,6 +238,17 @@ impl Stage {
     pub fn set_meshes(&mut self, meshes: Vec<LinkMesh>) {
         self.meshes = meshes;
         self.dirty = true;
+    }
+
+    /// Draws each link mesh with the coarsest level of detail whose error
+    /// spans at most `tolerance` pixels on a view `height` pixels high
+    /// (`view::meshes`).
+    pub fn set_detail(&mut self, height: f32, tolerance: f32) {
+        let detail = Some((height, tolerance));
+        if detail != self.detail {
+            self.detail = detail;
+            self.dirty = true;
+        }
     }
 
     /// Highlights the obstacle with this id (`None`: none).
@@ -440,7 +455,12 @@ impl Stage {
         };
         let around = self.reach.center.to_array();
         if self.display.meshes {
-            draw_meshes(scene, &self.meshes, &self.frames);
+            let detail = self.detail.map(|(height, tolerance)| Detail {
+                camera: &self.camera,
+                height,
+                tolerance,
+            });
+            draw_meshes(scene, &self.meshes, &self.frames, detail);
         }
         build_scene(scene, state, &options, self.selected.as_deref(), around);
         if self.display.axes {

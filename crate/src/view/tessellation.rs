@@ -21,6 +21,31 @@
 //! as before (the renderer's tolerances: `render/buffers.rs`; the frame
 //! rates: the README's benchmarks).
 
+/// How far (px) an outline may stray from the true one on a GPU: a solid's
+/// from its circle, a link mesh's from its full surface (`view::meshes`).
+pub(crate) const TOLERANCE: f32 = 0.5;
+
+/// The same on a software rasteriser, where every triangle costs the
+/// browser's GPU process about 2 µs whatever its size (SwiftShader).
+/// Drawing the solids coarser there, with three fixed levels of detail,
+/// took planar-transition from 50.4 to 56.9 fps and human-panda from 34.9
+/// to 41.3 (interleaved, four rounds, the machine of 2026-11-25). With a
+/// level per sector count, 1.5 px left the larger circles of the 2D views
+/// visibly polygonal (a node 35 px across in `chattering` got 11 sides):
+/// 1 px gives it 14, as many as the fixed levels did, while the small
+/// solids, most of a scene, keep their few triangles. On a GPU triangles
+/// cost next to nothing and the finer outline is kept.
+pub(crate) const SOFTWARE_TOLERANCE: f32 = 1.0;
+
+/// [`SOFTWARE_TOLERANCE`] on a software rasteriser, else [`TOLERANCE`].
+pub(crate) fn tolerance(software: bool) -> f32 {
+    if software {
+        SOFTWARE_TOLERANCE
+    } else {
+        TOLERANCE
+    }
+}
+
 /// Fewest sectors a solid is drawn with: a hexagon, within 0.5 px of the
 /// circle up to a radius of 3.7 px, within 1 px up to 7.5 px.
 pub(crate) const MIN_SECTORS: u32 = 6;

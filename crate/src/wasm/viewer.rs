@@ -134,10 +134,12 @@ impl Viewer {
         let renderer = Renderer::new(canvas, request, options.antialias)
             .await
             .map_err(|e| JsError::new(&e.to_string()))?;
-        Ok(super::boundary::guarded_viewer(Viewer {
+        let mut viewer = Viewer {
             renderer,
             stage: Stage::new(fixed_view),
-        }))
+        };
+        viewer.follow_size();
+        Ok(super::boundary::guarded_viewer(viewer))
     }
 
     /// The backend drawing the canvas: `"webgpu"` or `"webgl2"`.
@@ -452,6 +454,7 @@ impl Viewer {
         }
         self.renderer
             .resize(width.round() as u32, height.round() as u32);
+        self.follow_size();
         self.stage.touch();
         Ok(())
     }
@@ -538,5 +541,15 @@ impl Viewer {
             nodes,
         };
         serde_wasm_bindgen::to_value(&state).map_err(|e| JsError::new(&e.to_string()))
+    }
+}
+
+impl Viewer {
+    /// Tells the stage the drawing buffer's height and the renderer's
+    /// tolerance, for the link meshes' level of detail.
+    fn follow_size(&mut self) {
+        let (_, height) = self.renderer.size();
+        let tolerance = crate::view::tessellation::tolerance(self.renderer.is_software());
+        self.stage.set_detail(height as f32, tolerance);
     }
 }
