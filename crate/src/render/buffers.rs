@@ -111,7 +111,8 @@ impl Lens {
     /// The lens of `camera` on a drawing buffer `height` pixels high;
     /// `software`: the adapter is a software rasteriser, where every
     /// triangle costs, and the solids' outlines are kept within
-    /// [`SOFTWARE_TOLERANCE`] px instead of [`TOLERANCE`].
+    /// [`tessellation::SOFTWARE_TOLERANCE`] px instead of
+    /// [`tessellation::TOLERANCE`].
     pub fn new(camera: &Camera, height: f32, software: bool) -> Self {
         let perspective = camera.view == View::Orbit;
         let viewpoint = if perspective {

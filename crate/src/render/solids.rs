@@ -5,9 +5,9 @@
 //! shaders light everything else, and encoded to the surface's colour
 //! space. Triangles facing away from the eye are left out: the solids are
 //! closed, so they would be culled anyway; so are those inside an opaque
-//! solid of equal radii, which its surface hides (`view::occlusion`). Every solid of a frame then goes
-//! to the rasteriser as one indexed draw for the opaque ones and one for the
-//! translucent ones (back to front). A software rasteriser (SwiftShader)
+//! solid of equal radii, which its surface hides (`view::occlusion`).
+//! Every solid of a frame then goes to the rasteriser as one indexed draw
+//! for the opaque ones and one for the translucent ones (back to front). A software rasteriser (SwiftShader)
 //! runs each instance of an instanced draw as a draw of its own, with its
 //! own batches and synchronisation between its threads, and shades every
 //! vertex of every back face before culling it: drawing the solids as one
