@@ -163,7 +163,9 @@ export class Playground {
     }
     const backend = this.options.backend ?? 'auto';
     const antialias = this.options.antialias ?? (backend !== 'webgl2' && (await softwareWebGpu()) ? false : undefined);
-    this.viewer = await this.wasm.Viewer.create(this.canvas, { backend, view: this.options.view ?? 'auto', antialias });
+    // The element owns its canvas: drawn through its OffscreenCanvas, which the
+    // browser composites more cheaply (render/gpu.rs).
+    this.viewer = await this.wasm.Viewer.create(this.canvas, { backend, view: this.options.view ?? 'auto', antialias, offscreen: true });
     this.backend = this.viewer.backend;
     const resize = () => {
       const dpr = window.devicePixelRatio || 1;

@@ -60,6 +60,7 @@ for (const backend of ['webgpu', 'webgl2']) {
       assert.equal(before.backend, backend);
       assert.equal(before.dof, 3);
       assert.equal(before.view, 'top', 'a planar arm gets the 2D top view');
+      assert.equal(before.offscreenCanvas, true, 'the element draws through its canvas\'s OffscreenCanvas');
       assert.equal(before.screenNodes.length, 4);
       const box = await page.locator('#view').boundingBox();
       assert.equal(Math.round(box.width), before.width, 'device pixel ratio 1: CSS px = buffer px');
@@ -138,6 +139,24 @@ for (const backend of ['webgpu', 'webgl2']) {
       assert.ok(span(zoomed) > 1.2 * span(orbited), `zoom: ${span(orbited)} -> ${span(zoomed)} px`);
       await screenshot(page, `arm-${backend}-4-camera.png`);
 
+      // The canvas's drawing belongs to its viewer: a second viewer on it is
+      // refused with an Error that says why, and the first one draws on.
+      const second = await page.evaluate(async (backend) => {
+        const app = window.playground.app;
+        try {
+          (await app.wasm.Viewer.create(app.canvas, { backend, offscreen: true })).free();
+          return 'created';
+        } catch (e) {
+          return `${e instanceof Error}: ${e.message}`;
+        }
+      }, backend);
+      assert.match(second, /^true: the canvas cannot be drawn on: its drawing could not be handed over \([^\n]+\) nor drawn on directly; .*: give each viewer a canvas of its own$/);
+      const drawn = zoomed.framesDrawn;
+      await page.mouse.wheel(0, 200);
+      await page.waitForFunction((n) => window.playground.state().framesDrawn > n, drawn);
+      const unzoomed = await page.evaluate(() => window.playground.state());
+      assert.ok(span(unzoomed) < span(zoomed), `the first viewer still draws: ${span(zoomed)} -> ${span(unzoomed)} px`);
+
       const status = await page.locator('#page-status').textContent();
       assert.match(status, backend === 'webgpu' ? /WebGPU/ : /WebGL2/);
       assert.equal(await page.locator('#error').isHidden(), true);
@@ -183,6 +202,16 @@ test('the page falls back to WebGL2 when WebGPU is missing', async () => {
 test('with neither WebGPU nor WebGL2 the page says so', async () => {
   const browser = await launch({ webgpu: false, extraArgs: ['--disable-3d-apis'] });
   try {
+    // The flag leaves WebGL2 to an OffscreenCanvas in this Chromium: take it
+    // from both kinds of canvas, as a browser without it would.
+    await browser.context.addInitScript(() => {
+      for (const Canvas of [HTMLCanvasElement, OffscreenCanvas]) {
+        const getContext = Canvas.prototype.getContext;
+        Canvas.prototype.getContext = function (type, ...rest) {
+          return /^webgl/.test(type) ? null : getContext.call(this, type, ...rest);
+        };
+      }
+    });
     const page = await browser.context.newPage();
     await page.goto(baseUrl);
     const failure = await page.evaluate(() => window.playground.ready.then(() => null, (e) => String(e.message ?? e)));

@@ -10,7 +10,7 @@
 //! | file | what it holds |
 //! |---|---|
 //! | `mod.rs` | [`Renderer`]: update (uniforms, upload) and the render pass |
-//! | `gpu.rs` | surface and device setup: backends, adapter, device, surface format, multisampling, attachments |
+//! | `gpu.rs` | surface and device setup: the canvas or its `OffscreenCanvas`, backends, adapter, device, surface format, multisampling, attachments |
 //! | `pipelines.rs` | the uniforms, their bind group, one pipeline per primitive and blending |
 //! | `buffers.rs` | the per-frame vertex, index and instance buffers (opaque first, translucent back to front), the solids' level of detail |
 //! | `solids.rs` | capsules and spheres placed, lit and back-face culled on the CPU (and their triangles inside opaque ones left out, `view::occlusion`), drawn as one list of triangles |
@@ -59,7 +59,14 @@
 //!   meshes drawn at the level of detail their size on screen allows
 //!   (`view::meshes`): the iiwa 14 in the human-panda scene 7 729 → 1 914
 //!   triangles, 32.5 → 40.8 fps (A/B, three rounds, all won); its outline
-//!   unchanged, some of its shading a few levels different.
+//!   unchanged, some of its shading a few levels different;
+//! - most of the cleared canvas's cost is the browser compositing the
+//!   canvas (it grows with the canvas's area on the page, not with its
+//!   drawing buffer). Drawn through its `OffscreenCanvas` (`gpu.rs`,
+//!   `CanvasOptions::offscreen`) the canvas costs the GPU process 5–13 ms
+//!   less a frame: lwr4-elbow 37.5 → 51.4 fps, chattering 30.8 → 37.1,
+//!   the iiwa 14 31.2 → 41.2 (A/B, three rounds, all won, in a slow hour);
+//!   on WebGL2 chattering 30.0 → 41.4.
 //!
 //! The README gives the table, with the cleared canvas as its reference row.
 
@@ -73,6 +80,7 @@ mod solids;
 use crate::view::{Camera, Scene};
 
 use buffers::{Buffers, Lens};
+pub use gpu::CanvasOptions;
 use gpu::Gpu;
 use pipelines::{Globals, Pipelines};
 use solids::{Roots, Shading};
@@ -152,7 +160,7 @@ pub enum RenderError {
 ///
 /// # Example (in an async wasm function)
 /// ```ignore
-/// let mut renderer = Renderer::new(canvas, BackendRequest::Auto, None).await?;
+/// let mut renderer = Renderer::new(canvas, BackendRequest::Auto, CanvasOptions::default()).await?;
 /// renderer.resize(800, 600);
 /// renderer.update(&scene, &camera);
 /// renderer.render()?;
@@ -172,10 +180,12 @@ pub struct Renderer {
 
 impl Renderer {
     /// Starts a renderer drawing into `canvas` with the backend `request`
-    /// asks for, multisampled (4×) when `antialias` says so (`None`: unless
-    /// the adapter is a software rasteriser such as SwiftShader, where
-    /// multisampling halves the frame rate) and the adapter supports it.
-    /// The canvas keeps its size until [`Renderer::resize`].
+    /// asks for, multisampled (4×) when `options.antialias` says so (`None`:
+    /// unless the adapter is a software rasteriser such as SwiftShader,
+    /// where multisampling halves the frame rate) and the adapter supports
+    /// it, through the canvas's `OffscreenCanvas` with `options.offscreen`
+    /// (where the browser can hand it over). The canvas keeps its size until
+    /// [`Renderer::resize`].
     ///
     /// # Errors
     /// [`RenderError::NoAdapter`] when the browser has neither WebGPU nor
@@ -185,9 +195,9 @@ impl Renderer {
     pub async fn new(
         canvas: web_sys::HtmlCanvasElement,
         request: BackendRequest,
-        antialias: Option<bool>,
+        options: CanvasOptions,
     ) -> Result<Self, RenderError> {
-        let gpu = Gpu::connect(canvas, request, antialias).await?;
+        let gpu = Gpu::connect(canvas, request, options).await?;
         let globals = Globals {
             view_proj: glam::Mat4::IDENTITY.to_cols_array_2d(),
             to_camera: [0.0, 0.0, 1.0, 0.0],
@@ -260,6 +270,12 @@ impl Renderer {
         self.gpu.software
     }
 
+    /// Whether the renderer draws through the canvas's `OffscreenCanvas`.
+    #[must_use]
+    pub fn is_offscreen(&self) -> bool {
+        self.gpu.offscreen
+    }
+
     /// Drawing-buffer size in pixels.
     #[must_use]
     pub fn size(&self) -> (u32, u32) {
@@ -267,7 +283,8 @@ impl Renderer {
     }
 
     /// Sets the drawing-buffer size (pixels; the canvas's `width` and
-    /// `height` attributes follow). Sizes are clamped to 1 ..= the device's
+    /// `height` attributes follow, with an `OffscreenCanvas` once the frame
+    /// is shown). Sizes are clamped to 1 ..= the device's
     /// maximum texture size; an unchanged size costs nothing.
     pub fn resize(&mut self, width: u32, height: u32) {
         if self.gpu.resize(width, height) {
