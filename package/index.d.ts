@@ -775,6 +775,14 @@ export interface ViewerOptions {
   view?: ViewName | undefined;
   /** 4× multisampling; by default on unless the adapter is a software rasteriser. */
   antialias?: boolean | undefined;
+  /**
+   * Default false. Draw through the canvas's OffscreenCanvas
+   * (`transferControlToOffscreen`), which the browser composites more
+   * cheaply; the canvas then belongs to the viewer (no other context, its
+   * size set by `resize` only, no second viewer on it). Ignored where the
+   * browser cannot hand a canvas over (`ViewerState.offscreenCanvas`).
+   */
+  offscreen?: boolean | undefined;
 }
 
 export type ViewName = 'auto' | '3d' | 'top' | 'front' | 'side';
@@ -799,7 +807,16 @@ export interface ViewerState {
   adapter: string;
   surfaceFormat: string;
   sampleCount: number;
+  /** Whether the canvas is drawn through its OffscreenCanvas (`ViewerOptions.offscreen`). */
+  offscreenCanvas: boolean;
+  /** Triangles the last upload draws (grid hairlines not counted). */
   triangles: number;
+  /** Triangles of the capsules and spheres at their level of detail, back faces included. */
+  solidTriangles: number;
+  /** Frames presented so far. */
+  framesDrawn: number;
+  /** Frames left out because their scene and camera were those on screen. */
+  framesUnchanged: number;
   view: Exclude<ViewName, 'auto'>;
   /** Eye azimuth and elevation (rad), distance to the target (m), the target (m, world frame). */
   camera: { yaw: number; pitch: number; distance: number; target: Vec3 };

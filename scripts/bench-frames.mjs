@@ -195,8 +195,9 @@ export async function sample(page, profile, windows = WINDOWS) {
 
 /**
  * The ceiling that the machine and the browser set: a WebGPU canvas of the
- * playground's view size (read from the page) that is only cleared each
- * frame, on a page that holds nothing else and loads no wasm. What an
+ * playground's view size (read from the page), drawn through its
+ * OffscreenCanvas like the view, that is only cleared each frame, on a page
+ * that holds nothing else and loads no wasm. What an
  * example costs beyond it is the playground's.
  */
 async function measureReference(page, profile, url) {
@@ -215,7 +216,8 @@ async function measureReference(page, profile, url) {
     Object.assign(canvas, { width, height });
     canvas.style.cssText = `display:block;width:${width}px;height:${height}px`;
     document.body.append(canvas);
-    const context = canvas.getContext('webgpu');
+    // Drawn through its OffscreenCanvas, as the playground's view is.
+    const context = canvas.transferControlToOffscreen().getContext('webgpu');
     context.configure({ device, format: 'rgba8unorm', alphaMode: 'opaque' });
     const frame = () => {
       const encoder = device.createCommandEncoder();

@@ -199,6 +199,29 @@ test('the page falls back to WebGL2 when WebGPU is missing', async () => {
   }
 });
 
+test('a browser with WebGPU, but not on an OffscreenCanvas, draws with WebGL2 on it', async () => {
+  const browser = await launch({ webgpu: true });
+  try {
+    await browser.context.addInitScript(() => {
+      const getContext = OffscreenCanvas.prototype.getContext;
+      OffscreenCanvas.prototype.getContext = function (type, ...rest) {
+        return type === 'webgpu' ? null : getContext.call(this, type, ...rest);
+      };
+    });
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await page.goto(baseUrl);
+    await page.evaluate(() => window.playground.ready);
+    const state = await page.evaluate(() => window.playground.state());
+    assert.equal(state.backend, 'webgl2');
+    assert.equal(state.offscreenCanvas, true);
+    assert.ok(state.framesDrawn > 0, 'frames drawn');
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
+
 test('with neither WebGPU nor WebGL2 the page says so', async () => {
   const browser = await launch({ webgpu: false, extraArgs: ['--disable-3d-apis'] });
   try {

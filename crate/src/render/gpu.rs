@@ -167,37 +167,60 @@ async fn surface_for(
     request: BackendRequest,
     offscreen: bool,
 ) -> Result<(wgpu::Instance, wgpu::Surface<'static>, bool), RenderError> {
-    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-    desc.backends = request.backends();
-    let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
-    let (target, transferred) = match offscreen.then(|| transfer(&canvas)).flatten() {
-        Some(Ok(off)) => (wgpu::SurfaceTarget::OffscreenCanvas(off), Ok(true)),
+    let instance = instance_for(request.backends()).await;
+    match offscreen.then(|| transfer(&canvas)).flatten() {
+        Some(Ok(off)) => {
+            let target = wgpu::SurfaceTarget::OffscreenCanvas(off.clone());
+            match instance.create_surface(target) {
+                Ok(surface) => Ok((instance, surface, true)),
+                // A browser may offer WebGPU but not on an OffscreenCanvas:
+                // with either backend allowed, WebGL2 on it.
+                Err(_) if request == BackendRequest::Auto => {
+                    let gl = instance_for(wgpu::Backends::GL).await;
+                    let surface = gl
+                        .create_surface(wgpu::SurfaceTarget::OffscreenCanvas(off))
+                        .map_err(|e| surface_error(request, &e.to_string()))?;
+                    Ok((gl, surface, true))
+                }
+                Err(e) => Err(surface_error(request, &e.to_string())),
+            }
+        }
         // Already handed over (to an earlier renderer) or holding a context:
         // the element itself, which works in the second case.
-        Some(Err(reason)) => (wgpu::SurfaceTarget::Canvas(canvas), Err(reason)),
-        None => (wgpu::SurfaceTarget::Canvas(canvas), Ok(false)),
-    };
-    let surface = instance.create_surface(target).map_err(|e| {
-        let message = e.to_string();
-        if let Err(reason) = &transferred {
+        Some(Err(reason)) => match instance.create_surface(wgpu::SurfaceTarget::Canvas(canvas)) {
+            Ok(surface) => Ok((instance, surface, false)),
             // wgpu's message carries the browser's stack: the reason alone.
-            return RenderError::Surface(format!(
+            Err(_) => Err(RenderError::Surface(format!(
                 "its drawing could not be handed over ({reason}) nor drawn on directly; a canvas whose drawing an earlier viewer took cannot be drawn on again: give each viewer a canvas of its own"
-            ));
+            ))),
+        },
+        None => match instance.create_surface(wgpu::SurfaceTarget::Canvas(canvas)) {
+            Ok(surface) => Ok((instance, surface, false)),
+            Err(e) => Err(surface_error(request, &e.to_string())),
+        },
+    }
+}
+
+/// A wgpu instance for `backends` (WebGPU only where the browser has it).
+async fn instance_for(backends: wgpu::Backends) -> wgpu::Instance {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+    desc.backends = backends;
+    wgpu::util::new_instance_with_webgpu_detection(desc).await
+}
+
+/// The error for a canvas that gave no context: with WebGPU requested, a
+/// failure means no WebGPU. Otherwise wgpu reports `canvas.getContext()
+/// returned null; webgl2 not available …`: the browser has no WebGL2 (or
+/// it is disabled).
+fn surface_error(request: BackendRequest, message: &str) -> RenderError {
+    let no_webgl2 = message.to_lowercase().contains("webgl2 not available");
+    if request == BackendRequest::WebGpu || no_webgl2 {
+        RenderError::NoAdapter {
+            requested: request.missing(),
         }
-        // With WebGPU requested, a failure means no WebGPU. Otherwise
-        // wgpu reports `canvas.getContext() returned null; webgl2 not
-        // available …`: the browser has no WebGL2 (or it is disabled).
-        let no_webgl2 = message.to_lowercase().contains("webgl2 not available");
-        if request == BackendRequest::WebGpu || no_webgl2 {
-            RenderError::NoAdapter {
-                requested: request.missing(),
-            }
-        } else {
-            RenderError::Surface(message)
-        }
-    })?;
-    Ok((instance, surface, transferred.unwrap_or(false)))
+    } else {
+        RenderError::Surface(message.to_owned())
+    }
 }
 
 /// The canvas's `OffscreenCanvas`: `None` where the browser has no
