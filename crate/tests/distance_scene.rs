@@ -7,8 +7,8 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use glam::DVec3;
 use skeleton_avoidance::distance::{
-    BroadPhase, Capsule, Disk, Obstacle, OrientedBox, Plane, Primitive, QueryOptions, Rectangle,
-    Scene, Sphere, TaperedCapsule, Target, distance, parent_adjacency,
+    BroadPhase, Capsule, Disk, Obstacle, OrientedBox, PairDistance, Plane, Primitive, QueryOptions,
+    Rectangle, Scene, Sphere, TaperedCapsule, Target, distance, parent_adjacency,
 };
 use skeleton_avoidance::rng::Rng;
 use skeleton_avoidance::skeleton::{Segment, Skeleton, SpinePart};
@@ -103,6 +103,92 @@ fn broad_phase_finds_exactly_what_brute_force_finds() {
             );
         }
     }
+}
+
+/// Obstacles of every bounded kind about the arm, with planes and points.
+fn crowded_scene(rng: &mut Rng, n: usize) -> Scene {
+    let obstacles = (0..n)
+        .map(|i| {
+            let c = DVec3::new(0.3, 0.15, 0.4) + rng.vec3(0.8);
+            let shape = match i % 6 {
+                0 => Primitive::Sphere(Sphere::new(c, rng.range(0.02, 0.2)).unwrap()),
+                1 => Primitive::Capsule(
+                    Capsule::new(c, c + rng.unit3() * 0.3, rng.range(0.02, 0.1)).unwrap(),
+                ),
+                2 => Primitive::Box(
+                    OrientedBox::new(c, DVec3::splat(rng.range(0.05, 0.2)), [0., 0., 0., 1.])
+                        .unwrap(),
+                ),
+                3 => Primitive::Disk(Disk::new(c, rng.unit3(), rng.range(0.05, 0.3)).unwrap()),
+                4 => Primitive::Point(c),
+                _ => Primitive::Plane(Plane::new(rng.unit3(), c.z - 1.0).unwrap()),
+            };
+            Obstacle {
+                id: 7 * i as u32,
+                shape,
+            }
+        })
+        .collect();
+    Scene::new(obstacles)
+}
+
+#[test]
+fn nearest_is_the_smallest_pair_the_query_reports() {
+    let mut rng = Rng::new(11);
+    let skeleton = arm();
+    let options = |influence| QueryOptions {
+        influence_distance: influence,
+        self_collision: false,
+        ..QueryOptions::default()
+    };
+    let smallest = |pairs: &mut dyn Iterator<Item = &PairDistance>| {
+        pairs
+            .min_by(|a, b| a.distance.total_cmp(&b.distance))
+            .copied()
+    };
+    let mut kept_found = 0;
+    for round in 0..200 {
+        let scene = crowded_scene(&mut rng, [1, 3, 8, 20, 60][round % 5]);
+        let influence = [0.02, 0.1, 0.3, 1.0][round % 4];
+        let keep = |j: usize| j % 3 == 1;
+        let pairs = scene
+            .query(&skeleton, &options(influence), |_, _| false)
+            .unwrap();
+        let near = scene.nearest(&skeleton, influence, keep).unwrap();
+        let kept_of =
+            |p: &&PairDistance| matches!(p.target, Target::Obstacle { index, .. } if keep(index));
+        for (got, want) in [
+            (near.all, smallest(&mut pairs.iter())),
+            (near.kept, smallest(&mut pairs.iter().filter(kept_of))),
+        ] {
+            assert_eq!(
+                got.map(|p| p.distance),
+                want.map(|p| p.distance),
+                "round {round}"
+            );
+            // The pair itself, unless another one is as near.
+            if let (Some(g), Some(w)) = (got, want) {
+                let ties = pairs.iter().filter(|p| p.distance == w.distance).count();
+                if ties == 1 {
+                    assert_eq!(g, w, "round {round}");
+                }
+            }
+        }
+        kept_found += usize::from(near.kept.is_some());
+    }
+    // The scenes put obstacles within reach (not a test of empty answers).
+    assert!(kept_found > 50, "{kept_found}");
+}
+
+#[test]
+fn nearest_refuses_what_the_query_refuses() {
+    let scene = Scene::new(Vec::new());
+    let err = scene.nearest(&arm(), -1.0, |_| true).unwrap_err();
+    assert!(err.to_string().contains("influenceDistance"), "{err}");
+    let mut bad = arm();
+    bad.nodes[3].x = f64::NAN;
+    let err = scene.nearest(&bad, 0.3, |_| true).unwrap_err();
+    assert!(err.to_string().contains("skeleton.nodes[3]"), "{err}");
 }
 
 #[test]

@@ -69,7 +69,8 @@ pub use primitive::{
     Rectangle, RectangleSpec, SegmentSpec, Sphere, SphereSpec, TaperedCapsule, TaperedCapsuleSpec,
 };
 pub use scene::{
-    BroadPhase, Obstacle, PairDistance, Pick, QueryOptions, Scene, Target, parent_adjacency,
+    BroadPhase, Nearest, Obstacle, PairDistance, Pick, QueryOptions, Scene, Target,
+    parent_adjacency,
 };
 
 use crate::error::FieldError;

@@ -142,24 +142,29 @@ pub(crate) fn tapered_vs(
     let axis = seg.b - seg.a;
     let dr = tc.radius[1] - tc.radius[0];
     // h(t) = D(a + t·axis) − r(t) and its (sub)gradient: the gradient of
-    // the distance field at a point is −n (n points from the point to B).
-    let h = |t: f64| -> Result<(f64, f64), DistanceError> {
+    // the distance field at a point is −n (n points from the point to B);
+    // with the witness pair, kept for the point where h is least.
+    let h = |t: f64| -> Result<(f64, f64, Closest), DistanceError> {
         let (d, c) = measure(seg.at(t))?;
-        Ok((d - tc.radius_at(t), -c.n.dot(axis) - dr))
+        Ok((d - tc.radius_at(t), -c.n.dot(axis) - dr, c))
     };
-    let (h0, g0) = h(0.0)?;
-    let (h1, g1) = h(1.0)?;
-    let (value, t) = if g0 >= 0.0 {
-        (h0, 0.0)
+    let (h0, g0, c0) = h(0.0)?;
+    let (h1, g1, c1) = h(1.0)?;
+    let (value, t, cl) = if g0 >= 0.0 {
+        (h0, 0.0, c0)
     } else if g1 <= 0.0 {
-        (h1, 1.0)
+        (h1, 1.0, c1)
     } else {
         // The minimum lies in [lo, hi] where the slope changes sign. The
         // tangents at the two ends bound the convex h from below; their
         // crossing is both the next guess and the certified lower bound.
         let (mut lo, mut hl, mut gl) = (0.0f64, h0, g0);
         let (mut hi, mut hh, mut gh) = (1.0f64, h1, g1);
-        let (mut best, mut best_t) = if h0 <= h1 { (h0, 0.0) } else { (h1, 1.0) };
+        let (mut best, mut best_t, mut best_c) = if h0 <= h1 {
+            (h0, 0.0, c0)
+        } else {
+            (h1, 1.0, c1)
+        };
         let tol = 1e-13 * (1.0 + axis.length() + tc.max_radius());
         let mut bound = f64::NEG_INFINITY;
         for k in 0..100 {
@@ -177,10 +182,9 @@ pub(crate) fn tapered_vs(
             if !(t > lo && t < hi) {
                 t = 0.5 * (lo + hi);
             }
-            let (ht, gt) = h(t)?;
+            let (ht, gt, ct) = h(t)?;
             if ht < best {
-                best = ht;
-                best_t = t;
+                (best, best_t, best_c) = (ht, t, ct);
             }
             if gt < 0.0 {
                 (lo, hl, gl) = (t, ht, gt);
@@ -188,9 +192,8 @@ pub(crate) fn tapered_vs(
                 (hi, hh, gh) = (t, ht, gt);
             }
         }
-        (bound.min(best), best_t)
+        (bound.min(best), best_t, best_c)
     };
-    let (_, cl) = measure(seg.at(t))?;
     let rb = match other {
         Primitive::TaperedCapsule(t2) if t2.radius[0] != t2.radius[1] => 0.0,
         _ => core_of(other).1,

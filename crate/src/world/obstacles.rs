@@ -444,6 +444,14 @@ impl World {
         Some(format!("{}:{name}", ob.spec.id))
     }
 
+    /// Whether scene obstacle `id` is a named part (a person's).
+    pub(super) fn is_named_part(&self, id: usize) -> bool {
+        let (Some(&o), Some(&i)) = (self.owners.get(id), self.part_index.get(id)) else {
+            return false;
+        };
+        self.obstacles[o].part_name(i).is_some()
+    }
+
     /// `id:part` of scene part `id` (a human's) or `None`.
     pub(super) fn scene_part_name(&self, id: usize) -> Option<String> {
         let ob = &self.obstacles[*self.owners.get(id)?];

@@ -138,28 +138,44 @@ impl World {
                 .map_err(|e| FieldError::new("scene", e.to_string()))
         };
         let pairs = query(&self.scene)?;
-        let exact = if self.obstacles.iter().any(ObstacleState::noisy) {
-            Some(query(&self.clone_scene_at(self.t))?)
-        } else {
-            None
-        };
-        let closest = exact
-            .as_ref()
-            .unwrap_or(&pairs)
-            .iter()
-            .min_by(|a, b| a.distance.total_cmp(&b.distance));
-        self.min_clearance = closest.map(|p| p.distance);
         let part = |p: &PairDistance| match p.target {
             Target::Obstacle { id, .. } => self.scene_part_name(id as usize),
             Target::Segment(_) => None,
         };
-        let closest_part = closest.and_then(part);
-        let closest_human = exact
-            .as_ref()
-            .unwrap_or(&pairs)
-            .iter()
-            .filter_map(|p| part(p).map(|name| (name, p.distance)))
-            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let nearest = |pairs: &mut dyn Iterator<Item = &PairDistance>| {
+            pairs
+                .min_by(|a, b| a.distance.total_cmp(&b.distance))
+                .copied()
+        };
+        // The clearance reported is the true one: with noisy sensing the
+        // scene as it is, where only its nearest pairs are wanted
+        // (`Scene::nearest`); self-collision pairs are the same in both.
+        let (closest, human) = if self.obstacles.iter().any(ObstacleState::noisy) {
+            let truth = self
+                .clone_scene_at(self.t)
+                .nearest(&self.skeleton, options.influence_distance, |j| {
+                    self.is_named_part(j)
+                })
+                .map_err(|e| FieldError::new("scene", e.to_string()))?;
+            let own = nearest(
+                &mut pairs
+                    .iter()
+                    .filter(|p| matches!(p.target, Target::Segment(_))),
+            );
+            let closest = match (truth.all, own) {
+                (Some(a), Some(b)) if b.distance < a.distance => Some(b),
+                (None, b) => b,
+                (a, _) => a,
+            };
+            (closest, truth.kept)
+        } else {
+            let named = |p: &&PairDistance| matches!(p.target, Target::Obstacle { id, .. } if self.is_named_part(id as usize));
+            let human = nearest(&mut pairs.iter().filter(named));
+            (nearest(&mut pairs.iter()), human)
+        };
+        let closest_part = closest.as_ref().and_then(part);
+        let closest_human = human.as_ref().and_then(|p| Some((part(p)?, p.distance)));
+        self.min_clearance = closest.map(|p| p.distance);
         self.closest_part = closest_part;
         self.closest_human = closest_human;
         Ok(pairs)

@@ -22,6 +22,9 @@ use crate::error::{FieldError, finite3, non_negative};
 use crate::skeleton::Skeleton;
 
 mod bvh;
+mod nearest;
+
+pub use nearest::Nearest;
 
 use bvh::{Aabb, Bvh, bounds_of};
 
@@ -211,20 +214,7 @@ impl Scene {
         adjacent: impl Fn(usize, usize) -> bool,
     ) -> Result<Vec<PairDistance>, DistanceError> {
         let influence = non_negative("influenceDistance", options.influence_distance)?;
-        for (k, p) in skeleton.nodes.iter().enumerate() {
-            finite3(&format!("skeleton.nodes[{k}]"), *p)?;
-        }
-        let mut volumes = Vec::with_capacity(skeleton.segments.len());
-        for (k, s) in skeleton.segments.iter().enumerate() {
-            let (Some(a), Some(b)) = (skeleton.nodes.get(s.from), skeleton.nodes.get(s.to)) else {
-                return Err(FieldError::new(
-                    format!("skeleton.segments[{k}]"),
-                    "node index out of range",
-                )
-                .into());
-            };
-            volumes.push(volume(LineSegment { a: *a, b: *b }, s.radius));
-        }
+        let volumes = volumes(skeleton)?;
         let mut out = Vec::new();
         let mut candidates = Vec::new();
         for (i, vol) in volumes.iter().enumerate() {
@@ -238,12 +228,7 @@ impl Scene {
                 }
                 BroadPhase::BruteForce => candidates.extend(0..self.obstacles.len()),
             }
-            let (s0, s1, rmax) = match vol {
-                Primitive::Capsule(c) => (c.segment.a, c.segment.b, c.radius),
-                Primitive::TaperedCapsule(c) => (c.segment.a, c.segment.b, c.max_radius()),
-                Primitive::Segment(s) => (s.a, s.b, 0.0),
-                _ => (DVec3::ZERO, DVec3::ZERO, f64::INFINITY),
-            };
+            let (s0, s1, rmax) = axis_of(vol);
             let reach2 = (influence + rmax) * (influence + rmax);
             for &j in &candidates {
                 let o = &self.obstacles[j];
@@ -420,6 +405,37 @@ fn cast(shape: &Primitive, ray: &Ray, pick_radius: f64) -> Option<f64> {
 }
 
 /// The volume of a skeleton segment.
+/// The volumes of `skeleton`'s segments, in order, after checking its
+/// nodes are finite and its segments' node indices in range.
+fn volumes(skeleton: &Skeleton) -> Result<Vec<Primitive>, DistanceError> {
+    for (k, p) in skeleton.nodes.iter().enumerate() {
+        finite3(&format!("skeleton.nodes[{k}]"), *p)?;
+    }
+    let mut volumes = Vec::with_capacity(skeleton.segments.len());
+    for (k, s) in skeleton.segments.iter().enumerate() {
+        let (Some(a), Some(b)) = (skeleton.nodes.get(s.from), skeleton.nodes.get(s.to)) else {
+            return Err(FieldError::new(
+                format!("skeleton.segments[{k}]"),
+                "node index out of range",
+            )
+            .into());
+        };
+        volumes.push(volume(LineSegment { a: *a, b: *b }, s.radius));
+    }
+    Ok(volumes)
+}
+
+/// A segment volume's axis and its largest radius (what the mid-phase
+/// measures boxes against).
+fn axis_of(vol: &Primitive) -> (DVec3, DVec3, f64) {
+    match vol {
+        Primitive::Capsule(c) => (c.segment.a, c.segment.b, c.radius),
+        Primitive::TaperedCapsule(c) => (c.segment.a, c.segment.b, c.max_radius()),
+        Primitive::Segment(s) => (s.a, s.b, 0.0),
+        _ => (DVec3::ZERO, DVec3::ZERO, f64::INFINITY),
+    }
+}
+
 fn volume(s: LineSegment, radius: [f64; 2]) -> Primitive {
     let [r0, r1] = radius;
     if !(r0 > 0.0 && r1 > 0.0) {
