@@ -50,24 +50,30 @@ fn parents() -> Vec<usize> {
     (0..8).map(|k: usize| k.saturating_sub(1)).collect()
 }
 
+/// A primitive of kind `kind` (0..6: sphere, capsule, box, disk, point,
+/// plane) about `c`.
+fn shape(rng: &mut Rng, kind: usize, c: DVec3) -> Primitive {
+    match kind {
+        0 => Primitive::Sphere(Sphere::new(c, rng.range(0.02, 0.2)).unwrap()),
+        1 => Primitive::Capsule(
+            Capsule::new(c, c + rng.unit3() * 0.3, rng.range(0.02, 0.1)).unwrap(),
+        ),
+        2 => Primitive::Box(
+            OrientedBox::new(c, DVec3::splat(rng.range(0.05, 0.2)), [0., 0., 0., 1.]).unwrap(),
+        ),
+        3 => Primitive::Disk(Disk::new(c, rng.unit3(), rng.range(0.05, 0.3)).unwrap()),
+        4 => Primitive::Point(c),
+        _ => Primitive::Plane(Plane::new(rng.unit3(), c.z - 1.0).unwrap()),
+    }
+}
+
 fn random_scene(rng: &mut Rng, n: usize) -> Scene {
     let obstacles = (0..n)
         .map(|i| {
             let c = rng.vec3(3.0);
-            let shape = match i % 4 {
-                0 => Primitive::Sphere(Sphere::new(c, rng.range(0.02, 0.2)).unwrap()),
-                1 => Primitive::Capsule(
-                    Capsule::new(c, c + rng.unit3() * 0.3, rng.range(0.02, 0.1)).unwrap(),
-                ),
-                2 => Primitive::Box(
-                    OrientedBox::new(c, DVec3::splat(rng.range(0.05, 0.2)), [0., 0., 0., 1.])
-                        .unwrap(),
-                ),
-                _ => Primitive::Disk(Disk::new(c, rng.unit3(), rng.range(0.05, 0.3)).unwrap()),
-            };
             Obstacle {
                 id: 100 + i as u32,
-                shape,
+                shape: shape(rng, i % 4, c),
             }
         })
         .collect();
@@ -110,22 +116,9 @@ fn crowded_scene(rng: &mut Rng, n: usize) -> Scene {
     let obstacles = (0..n)
         .map(|i| {
             let c = DVec3::new(0.3, 0.15, 0.4) + rng.vec3(0.8);
-            let shape = match i % 6 {
-                0 => Primitive::Sphere(Sphere::new(c, rng.range(0.02, 0.2)).unwrap()),
-                1 => Primitive::Capsule(
-                    Capsule::new(c, c + rng.unit3() * 0.3, rng.range(0.02, 0.1)).unwrap(),
-                ),
-                2 => Primitive::Box(
-                    OrientedBox::new(c, DVec3::splat(rng.range(0.05, 0.2)), [0., 0., 0., 1.])
-                        .unwrap(),
-                ),
-                3 => Primitive::Disk(Disk::new(c, rng.unit3(), rng.range(0.05, 0.3)).unwrap()),
-                4 => Primitive::Point(c),
-                _ => Primitive::Plane(Plane::new(rng.unit3(), c.z - 1.0).unwrap()),
-            };
             Obstacle {
                 id: 7 * i as u32,
-                shape,
+                shape: shape(rng, i % 6, c),
             }
         })
         .collect();
