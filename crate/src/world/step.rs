@@ -142,7 +142,7 @@ impl World {
             Target::Obstacle { id, .. } => self.scene_part_name(id as usize),
             Target::Segment(_) => None,
         };
-        let nearest = |pairs: &mut dyn Iterator<Item = &PairDistance>| {
+        let smallest = |pairs: &mut dyn Iterator<Item = &PairDistance>| {
             pairs
                 .min_by(|a, b| a.distance.total_cmp(&b.distance))
                 .copied()
@@ -157,7 +157,7 @@ impl World {
                     self.is_named_part(j)
                 })
                 .map_err(|e| FieldError::new("scene", e.to_string()))?;
-            let own = nearest(
+            let own = smallest(
                 &mut pairs
                     .iter()
                     .filter(|p| matches!(p.target, Target::Segment(_))),
@@ -170,8 +170,8 @@ impl World {
             (closest, truth.kept)
         } else {
             let named = |p: &&PairDistance| matches!(p.target, Target::Obstacle { id, .. } if self.is_named_part(id as usize));
-            let human = nearest(&mut pairs.iter().filter(named));
-            (nearest(&mut pairs.iter()), human)
+            let human = smallest(&mut pairs.iter().filter(named));
+            (smallest(&mut pairs.iter()), human)
         };
         let closest_part = closest.as_ref().and_then(part);
         let closest_human = human.as_ref().and_then(|p| Some((part(p)?, p.distance)));
