@@ -10,11 +10,12 @@ export const STYLE = `
 * { box-sizing: border-box; }
 .sp { display: grid; height: 100%; grid-template-columns: minmax(0, 1fr); grid-template-rows: minmax(0, 1fr) auto;
       position: relative; }
-/* Wide: the panel on the right, the plots' strip 15.5rem high, room for two
-   legend rows and a readable plot. The 3D view takes the rest; its area is
-   also what a frame costs the browser where the GPU is emulated (about
-   38 ns a pixel shown, render/mod.rs). */
-.sp.full { grid-template-columns: minmax(0, 1fr) 22rem; grid-template-rows: minmax(0, 1fr) 15.5rem; }
+/* Wide: the panel on the right, the plots' strip up to 15.5rem high (a
+   third of a tall widget, never below 12.5rem): room for two legend rows
+   and a readable plot. The 3D view takes the rest; its area is also what a
+   frame costs the browser where the GPU is emulated (about 38 ns a pixel
+   shown, render/mod.rs). */
+.sp.full { grid-template-columns: minmax(0, 1fr) 22rem; grid-template-rows: minmax(0, 1fr) clamp(12.5rem, 36%, 15.5rem); }
 .stage { position: relative; min-height: 0; min-width: 0; overflow: hidden; }
 .view { width: 100%; height: 100%; display: block; touch-action: pan-y; cursor: crosshair; outline: none; }
 :host([fill]) .view { touch-action: none; }
