@@ -107,12 +107,24 @@ export class TimePlot {
     this.now = Math.max(this.now, t);
   }
 
-  /** Shows `text` in the legend for line `name` (e.g. which part of a human is closest). */
+  /**
+   * Names line `name` `text` in the legend (e.g. which part of a human is
+   * closest), from the next `draw` on: a person's nearest part can change
+   * every frame, and each change of the legend's text lays out and paints
+   * the page again (on software rendering half the frames of human-panda
+   * did so once the person stood by the arm).
+   */
   label(name, text) {
     const s = this.series.get(name);
-    if (!s || s.label === text) return;
-    s.label = text;
-    s.key.lastChild.textContent = text;
+    if (s) s.label = text;
+  }
+
+  /** Writes the labels set since the last `draw` into the legend. */
+  showLabels() {
+    for (const s of this.series.values()) {
+      const node = s.key.lastChild;
+      if (s.label !== undefined && node.textContent !== s.label) node.textContent = s.label;
+    }
   }
 
   legendKey(name, s) {
@@ -172,6 +184,7 @@ export class TimePlot {
   }
 
   draw() {
+    this.showLabels();
     const { canvas } = this;
     const dpr = window.devicePixelRatio || 1;
     const w = Math.max(1, Math.round(canvas.clientWidth * dpr));
