@@ -10,8 +10,8 @@ export const STYLE = `
 * { box-sizing: border-box; }
 .sp { display: grid; height: 100%; grid-template-columns: minmax(0, 1fr); grid-template-rows: minmax(0, 1fr) auto;
       position: relative; }
-/* Wide: the panel on the right, the plots' strip up to 15.5rem high (a
-   third of a tall widget, never below 12.5rem): room for two legend rows
+/* Wide: the panel on the right, the plots' strip 36 % of the widget's
+   height, within 12.5rem and 15.5rem: room for two legend rows
    and a readable plot. The 3D view takes the rest; its area is also what a
    frame costs the browser where the GPU is emulated (about 38 ns a pixel
    shown, render/mod.rs). */
