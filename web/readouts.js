@@ -66,19 +66,35 @@ export const readoutMethods = {
   /**
    * How much taller the HUD will get in a scene with a person (CSS px): a
    * fit on load would frame their head where the HUD reaches once it shows
-   * three control points, the nearest human part and a line per obstacle
-   * sensed with error (human-panda). Other scenes are framed below the
-   * HUD as it is.
+   * the nearest human part, a line per obstacle sensed with error and three
+   * control points (human-panda). The HUD's typical text then is laid out
+   * in a hidden copy of the box, so that lines wrapped in a narrow view (a
+   * phone's HUD is half of 390 px) count as the rows they take. Other
+   * scenes are framed below the HUD as it is.
    */
   hudGrowth() {
     const obstacles = this.scenario?.obstacles ?? [];
-    if (!obstacles.some((o) => o.shape?.type === 'human')) return 0;
-    const shown = this.hud.textContent ? this.hud.textContent.split('\n').length : 0;
+    const person = obstacles.find((o) => o.shape?.type === 'human');
+    if (!person) return 0;
     const sensed = this.scenario?.sensing ?? {};
-    const lines = 3 + 3 + 1 + obstacles.filter((o) => Object.hasOwn(sensed, o.id)).length;
-    const style = getComputedStyle(this.hud);
-    const perLine = parseFloat(style.lineHeight) || 1.25 * (parseFloat(style.fontSize) || 12);
-    return Math.max(0, lines - shown) * perLine;
+    const cp = (near) => ({ link: 5, d: 0.277, a: -0.083, ...(near ? { part: `${person.id}:leftHand` } : {}),
+      ...(near && Object.hasOwn(sensed, person.id) ? { sigma: { d: 0.005, a: 0.005 } } : {}) });
+    const typical = {
+      // The closest pair is not the person's (else the person's part is on
+      // the clearance line, and there is no line for the nearest human part).
+      t: 10, stopped: false, minClearance: 0.081, timeToCollision: 4.24,
+      closestHuman: { part: `${person.id}:rightThigh`, distance: 0.18 },
+      uncertainty: obstacles.filter((o) => Object.hasOwn(sensed, o.id)).map((o) => ({ obstacle: o.id, switchProbability: 0.3, sigma: 0.004 })),
+      controlPoints: [cp(true), cp(false), cp(false)],
+    };
+    const copy = this.hud.cloneNode(false);
+    copy.removeAttribute('id');
+    copy.style.visibility = 'hidden';
+    copy.textContent = hudLines(typical, true, this.influence()).join('\n');
+    this.hud.after(copy);
+    const grown = copy.getBoundingClientRect().height - this.hud.getBoundingClientRect().height;
+    copy.remove();
+    return Math.max(0, grown);
   },
 
   /** Moves the plots' cursor to time `t` (s) and pauses, so the moment can be read. */
