@@ -310,6 +310,13 @@ impl ControllerConfig {
         Ok(())
     }
 
+    /// Whether this controller solves the `constraints` avoidance (velocity
+    /// mode with `avoidance: constraints`).
+    #[must_use]
+    pub fn uses_constraints(&self) -> bool {
+        self.mode == Mode::Velocity && self.avoidance == Avoidance::Constraints
+    }
+
     pub(crate) fn dls(&self) -> Damping {
         Damping {
             epsilon: self.damping.epsilon,
