@@ -68,7 +68,7 @@ impl World {
                     (p.distance, None, Some((other, u)), 0.0, None)
                 }
             };
-            if distance > cfg.influence_distance {
+            if cfg.beyond_influence(distance) {
                 continue;
             }
             out.push(GuardPair {
@@ -144,7 +144,7 @@ impl World {
             };
             let margin = self.obstacles[o].part_margin(self.part_index[part]);
             let clearance = d.distance - Skeleton::radius_at(seg, t) - margin;
-            if clearance > cfg.influence_distance || d.distance <= 0.0 {
+            if cfg.beyond_influence(clearance) || d.distance <= 0.0 {
                 continue;
             }
             out.push(GuardPair {
@@ -199,11 +199,6 @@ impl World {
             dt,
             config: cfg,
         }
-    }
-
-    /// The admissible velocity box now ([`protect::admissible_box`]).
-    pub(super) fn admissible_box(&self) -> (Vec<f64>, Vec<f64>) {
-        protect::admissible_box(&self.robot, &self.q, self.stop_time)
     }
 
     /// Stage 7: the protective layer. Projects the request onto the guards

@@ -7,7 +7,7 @@
 //! Every function here reads its inputs explicitly ([`GuardContext`]) and
 //! returns what the world keeps; the world writes its own state and events.
 
-use super::{Damper, Guard, GuardPair, guards, project};
+use super::{Damper, Guard, GuardBounds, GuardPair, guards, project};
 use crate::avoidance::ControllerConfig;
 use crate::avoidance::constraints::INFEASIBLE_TOLERANCE;
 use crate::avoidance::limits::{JointMotion, braking_time, cap_for_stop_time, velocity_box};
@@ -88,24 +88,17 @@ pub fn prepare(
 ) -> Result<Option<(usize, f64)>, FieldError> {
     let cfg = ctx.config;
     let p = cfg.protective;
-    let braking = braking_time(ctx.robot, ctx.motion, ctx.dt);
-    let floor = if ctx.stopped { 0.0 } else { f64::NEG_INFINITY };
-    let damper = cfg.uses_constraints().then_some(Damper {
-        gain: cfg.max_repulsion_speed,
-        band: cfg.safety_band,
-        influence: cfg.influence_distance,
-    });
-    guards(
-        ctx.robot,
-        ctx.frames,
-        ctx.skeleton,
-        pairs,
-        &p,
-        braking,
-        floor,
-        damper.as_ref(),
-        out,
-    )?;
+    let bounds = GuardBounds {
+        config: p,
+        braking: braking_time(ctx.robot, ctx.motion, ctx.dt),
+        floor: if ctx.stopped { 0.0 } else { f64::NEG_INFINITY },
+        damper: cfg.uses_constraints().then_some(Damper {
+            gain: cfg.max_repulsion_speed,
+            band: cfg.safety_band,
+            influence: cfg.influence_distance,
+        }),
+    };
+    guards(ctx, pairs, &bounds, out)?;
     let (lo, hi) = admissible_box(ctx.robot, ctx.q, ctx.stop_time);
     let mut doomed = None;
     for (k, g) in out.iter_mut().enumerate() {

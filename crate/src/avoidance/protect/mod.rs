@@ -223,29 +223,77 @@ fn jacobian_at(
     Ok(())
 }
 
+/// How the guards of one step bound their pairs ([`guards`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GuardBounds {
+    /// The protective layer's settings.
+    pub config: ProtectiveConfig,
+    /// The joints' stopping time now (s).
+    pub braking: f64,
+    /// The lowest bound asked for (e.g. 0 during a stop: a stopping arm is
+    /// not asked to retreat).
+    pub floor: f64,
+    /// The damper of the `constraints` avoidance, if any.
+    pub damper: Option<Damper>,
+}
+
+impl GuardBounds {
+    /// The protective bound and the damper's bound (`+∞` without a
+    /// damper) of pair `p`, both at least `floor`; a static or receding
+    /// obstacle asks for no retreat faster than `withdraw_speed`.
+    fn of(&self, p: &GuardPair) -> (f64, f64) {
+        let config = self.config;
+        let mut bound = config.bound(p.distance, p.obstacle_speed, self.braking);
+        if p.obstacle_speed <= 0.0 {
+            bound = bound.max(-config.withdraw_speed);
+        }
+        let bound = bound.max(self.floor);
+        let soft = self.damper.as_ref().map_or(f64::INFINITY, |d| {
+            d.bound(p.distance, p.obstacle_speed).max(self.floor)
+        });
+        (bound, soft)
+    }
+}
+
+/// The row of pair `p` into `row`: `nᵀ J_θ` at the arm's witness, less
+/// `nᵀ J_θ,b` at the other side of a self pair (`jacobians` are scratch).
+fn pair_row(
+    ctx: &GuardContext,
+    p: &GuardPair,
+    jacobians: (&mut PointJacobians, &mut PointJacobians),
+    row: &mut Vec<f64>,
+) -> Result<(), FieldError> {
+    let (robot, frames, skeleton) = (ctx.robot, ctx.frames, ctx.skeleton);
+    let (ja, jb) = jacobians;
+    jacobian_at(robot, frames, skeleton, p.segment, p.fraction, ja)?;
+    row.clear();
+    row.extend(ja.j_theta.iter().map(|c| p.normal.dot(*c)));
+    if let Some((seg, t)) = p.other {
+        jacobian_at(robot, frames, skeleton, seg, t, jb)?;
+        for (r, c) in row.iter_mut().zip(&jb.j_theta) {
+            *r -= p.normal.dot(*c);
+        }
+    }
+    Ok(())
+}
+
 /// The guard of every pair (see the module docs), into `out`.
 ///
-/// `braking` is the joints' stopping time now; `floor` (e.g. 0 during a
-/// stop) is the lowest bound asked for: a stopping arm is not asked to
-/// retreat. A static or receding obstacle (and a self pair) never asks for
-/// a retreat faster than `withdraw_speed`: the arm backs out of an overlap
-/// at that speed instead of being asked the impossible. `damper` adds each
-/// pair's [`Damper`] bound as [`Guard::soft`].
+/// A static or receding obstacle (and a self pair) never asks for a
+/// retreat faster than `withdraw_speed`: the arm backs out of an overlap
+/// at that speed instead of being asked the impossible. With a damper,
+/// each pair's [`Damper`] bound is [`Guard::soft`]. `ctx` gives the robot,
+/// its frames and its skeleton.
 ///
 /// # Errors
 /// A pair whose segment is not in the skeleton (a bug).
-#[allow(clippy::too_many_arguments)]
 pub fn guards(
-    robot: &Robot,
-    frames: &Frames,
-    skeleton: &Skeleton,
+    ctx: &GuardContext,
     pairs: &[GuardPair],
-    config: &ProtectiveConfig,
-    braking: f64,
-    floor: f64,
-    damper: Option<&Damper>,
+    bounds: &GuardBounds,
     out: &mut Vec<Guard>,
 ) -> Result<(), FieldError> {
+    let robot = ctx.robot;
     // The guards of the last call are written over (their rows' buffers
     // reused: no allocation per pair and step once the count is reached).
     let mut used = 0;
@@ -253,29 +301,11 @@ pub fn guards(
     let mut jb = PointJacobians::default();
     let mut row = Vec::with_capacity(robot.dof());
     for p in pairs {
-        if let Err(e) = jacobian_at(robot, frames, skeleton, p.segment, p.fraction, &mut ja) {
+        if let Err(e) = pair_row(ctx, p, (&mut ja, &mut jb), &mut row) {
             out.truncate(used);
             return Err(e);
         }
-        row.clear();
-        row.extend(ja.j_theta.iter().map(|c| p.normal.dot(*c)));
-        if let Some((seg, t)) = p.other {
-            if let Err(e) = jacobian_at(robot, frames, skeleton, seg, t, &mut jb) {
-                out.truncate(used);
-                return Err(e);
-            }
-            for (r, c) in row.iter_mut().zip(&jb.j_theta) {
-                *r -= p.normal.dot(*c);
-            }
-        }
-        let mut bound = config.bound(p.distance, p.obstacle_speed, braking);
-        if p.obstacle_speed <= 0.0 {
-            bound = bound.max(-config.withdraw_speed);
-        }
-        let bound = bound.max(floor);
-        let soft = damper.map_or(f64::INFINITY, |d| {
-            d.bound(p.distance, p.obstacle_speed).max(floor)
-        });
+        let (bound, soft) = bounds.of(p);
         // A guard the joints cannot reach within their speed limits can
         // never be active, and one no joint can act on cannot be helped:
         // leave both out of the QP.
