@@ -40,13 +40,7 @@ fn unconstrained_is_the_newton_step_and_the_factor_is_exact() {
     let mut x = Vec::new();
     let mut ws = Workspace::default();
     let s = solve(
-        &Problem {
-            h: &h,
-            f: &f,
-            rows: &[],
-            lo: &[-9.0; 3],
-            hi: &[9.0; 3],
-        },
+        &problem(&h, &f, &[], &[-9.0; 3], &[9.0; 3]),
         1e-9,
         &mut ws,
         &mut x,
@@ -69,13 +63,7 @@ fn one_active_row_matches_the_closed_form_in_the_h_metric() {
     let mut x = Vec::new();
     let mut ws = Workspace::default();
     let s = solve(
-        &Problem {
-            h: &h,
-            f: &f,
-            rows: &[(&a, b)],
-            lo: &[-9.0; 2],
-            hi: &[9.0; 2],
-        },
+        &problem(&h, &f, &[(&a, b)], &[-9.0; 2], &[9.0; 2]),
         1e-9,
         &mut ws,
         &mut x,
@@ -101,18 +89,7 @@ fn solution_is_optimal_among_feasible_neighbours() {
     let (lo, hi) = ([-1.0; 3], [1.0, 0.8, 1.0]);
     let mut x = Vec::new();
     let mut ws = Workspace::default();
-    let s = solve(
-        &Problem {
-            h: &h,
-            f: &f,
-            rows: &rows,
-            lo: &lo,
-            hi: &hi,
-        },
-        1e-9,
-        &mut ws,
-        &mut x,
-    );
+    let s = solve(&problem(&h, &f, &rows, &lo, &hi), 1e-9, &mut ws, &mut x);
     assert!(s.worst.is_none(), "{s:?}");
     let obj = |y: &[f64]| {
         let hy = h.mul_vec(y);
@@ -144,13 +121,7 @@ fn infeasible_rows_are_reported() {
     let mut x = Vec::new();
     let mut ws = Workspace::default();
     let s = solve(
-        &Problem {
-            h: &h,
-            f: &[0.0, 0.0],
-            rows: &[(&a, -3.0)],
-            lo: &[-2.0; 2],
-            hi: &[2.0; 2],
-        },
+        &problem(&h, &[0.0, 0.0], &[(&a, -3.0)], &[-2.0; 2], &[2.0; 2]),
         1e-6,
         &mut ws,
         &mut x,
@@ -186,6 +157,17 @@ fn solve_square(mut a: Vec<f64>, mut b: Vec<f64>) -> Option<Vec<f64>> {
         y[r] = (b[r] - s) / a[r * n + r];
     }
     Some(y)
+}
+
+/// The problem of `h`, `f`, `rows` and the box `lo..hi`.
+fn problem<'a>(
+    h: &'a Mat,
+    f: &'a [f64],
+    rows: &'a [(&'a [f64], f64)],
+    lo: &'a [f64],
+    hi: &'a [f64],
+) -> Problem<'a> {
+    Problem { h, f, rows, lo, hi }
 }
 
 /// The KKT conditions, checked independently of the solver: the
@@ -276,18 +258,7 @@ fn random_ill_conditioned_problems_meet_the_kkt_conditions() {
         let view: Vec<(&[f64], f64)> = rows.iter().map(|(a, b)| (a.as_slice(), *b)).collect();
         let mut x = Vec::new();
         let mut ws = Workspace::default();
-        let s = solve(
-            &Problem {
-                h: &h,
-                f: &f,
-                rows: &view,
-                lo: &lo,
-                hi: &hi,
-            },
-            1e-9,
-            &mut ws,
-            &mut x,
-        );
+        let s = solve(&problem(&h, &f, &view, &lo, &hi), 1e-9, &mut ws, &mut x);
         assert!(s.worst.is_none(), "trial {trial}: {s:?}");
         assert_kkt(&h, &f, &rows, &lo, &hi, &x);
         active_total += ws.active.len();
@@ -316,18 +287,7 @@ fn dependent_rows_are_handled() {
     let (lo, hi) = ([-1.0; 3], [0.5, 0.8, 1.0]);
     let mut x = Vec::new();
     let mut ws = Workspace::default();
-    let s = solve(
-        &Problem {
-            h: &h,
-            f: &f,
-            rows: &view,
-            lo: &lo,
-            hi: &hi,
-        },
-        1e-9,
-        &mut ws,
-        &mut x,
-    );
+    let s = solve(&problem(&h, &f, &view, &lo, &hi), 1e-9, &mut ws, &mut x);
     assert!(s.worst.is_none(), "{s:?}");
     let independent = [rows[0].clone(), rows[3].clone()];
     assert_kkt(&h, &f, &independent, &lo, &[f64::INFINITY, 0.8, 1.0], &x);

@@ -41,10 +41,13 @@
 //! [`super::constraints::constrained_velocity`].
 //!
 //! **Adding one.** A new limit is a new file here with a type that
-//! implements [`Limit`] (its rows from the [`LimitContext`]; `soft` if it
-//! may give way), and one line in the list of
-//! [`super::constraints::constrained_velocity`]. A new task likewise
-//! implements [`Task`] and is stacked where its reference is made.
+//! implements [`Limit`] (its rows from the [`LimitContext`], its box if
+//! any; `soft` if it may give way), declared below (`mod` and `pub use`),
+//! and registered by one entry in the list of
+//! [`super::constraints::constrained_velocity`]; nothing else changes —
+//! the assembler, the solver and the world do not know the kinds. A new
+//! task likewise implements [`Task`] and is stacked where its reference is
+//! made ([`stack_tasks`]).
 
 use super::{ControllerConfig, TaskReference};
 use crate::error::FieldError;
