@@ -46,7 +46,8 @@
 //! **Where the rows come from.** Each term is a type of [`super::rows`]:
 //! the tasks' rows `J`, `v` ([`super::rows::EndEffectorTask`],
 //! [`super::rows::PointTask`]), the box ([`super::rows::JointBox`]), the
-//! protective bounds `bₖ` ([`super::rows::ProtectiveBound`]) and the dampers
+//! protective bounds `bₖ` ([`super::rows::ProtectiveBound`], and
+//! [`super::rows::SelfPairs`] for two points of the arm) and the dampers
 //! `sₖ` ([`super::rows::VelocityDamper`], soft: the ones dropped). They are
 //! registered in [`constrained_velocity`] and stacked by the assembler
 //! [`super::qp::assemble`].
@@ -60,7 +61,8 @@ use super::protect::Guard;
 use super::qp::Workspace;
 use super::qp::assemble::{Stack, solve_stacked};
 use super::rows::{
-    JointBox, Limit, LimitContext, ProtectiveBound, TaskContext, VelocityDamper, stack_tasks,
+    JointBox, Limit, LimitContext, ProtectiveBound, SelfPairs, TaskContext, VelocityDamper,
+    stack_tasks,
 };
 use super::{ControllerConfig, TaskReference};
 use crate::error::FieldError;
@@ -90,7 +92,7 @@ pub struct ConstraintsInput<'a> {
 
 /// The `constraints` avoidance: the joint velocity that best serves the
 /// tasks under every limit — the joint box, each guard's protective bound
-/// and its damper (soft) — into `out` (see the module docs). The list
+/// (obstacle and self pairs) and its damper (soft) — into `out` (see the module docs). The list
 /// below is the registration of the limits: a new limit is one more entry.
 ///
 /// # Errors
@@ -109,9 +111,10 @@ pub fn constrained_velocity(
     };
     let tasks = stack_tasks(&task_context, input.tasks)?;
     let guards = input.guards;
-    let limits: [&dyn Limit; 3] = [
+    let limits: [&dyn Limit; 4] = [
         &JointBox,
         &ProtectiveBound { guards },
+        &SelfPairs { guards },
         &VelocityDamper { guards },
     ];
     let stack = Stack {

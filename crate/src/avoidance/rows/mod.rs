@@ -10,11 +10,13 @@
 //! | limit | file | rows |
 //! |---|---|---|
 //! | [`JointBox`] | `joint_box.rs` | the box: speed limits, braking caps of the position limits (acceleration), the stop time |
-//! | [`ProtectiveBound`] | `protective.rs` | one row per guarded pair, obstacle or self pair, at its protective bound (braking, slowdown, escape) |
+//! | [`ProtectiveBound`] | `protective.rs` | one row per guarded skeleton–obstacle pair at its protective bound (braking, slowdown, escape) |
+//! | [`SelfPairs`] | `self_pairs.rs` | one row per guarded pair of two points of the arm, at its protective bound |
 //! | [`VelocityDamper`] | `damper.rs` | the same pairs' rows at their damper bound; *soft* |
 //!
 //! Rows of the same pair are one QP row with the smaller bound (pair `k`
-//! of [`Inequalities::push_pair`]). A *soft* limit ([`Limit::soft`]) is
+//! of [`Inequalities::push_pair`]), and the pairs' rows are stacked in the
+//! order of the pairs (the guards' order), whichever limit made them. A *soft* limit ([`Limit::soft`]) is
 //! dropped when the stack cannot be met as a whole; the hard ones are then
 //! solved alone (and if those fail the world stops the arm).
 //!
@@ -34,8 +36,9 @@
 //! of the end effector.
 //!
 //! **Stacking.** Rows are stacked in the order of registration, and within
-//! a limit or task in the order of its pairs, points or chains: the solver
-//! sees exactly that order. [`stack_tasks`] stacks the scenario's task
+//! a limit or task in the order of its points or chains; the pairs' rows
+//! follow the other rows, in pair order. The solver sees exactly that
+//! order. [`stack_tasks`] stacks the scenario's task
 //! references; the QP's assembler ([`super::qp::assemble`]) turns the task
 //! rows into the objective and stacks the limits registered by
 //! [`super::constraints::constrained_velocity`].
@@ -60,6 +63,7 @@ mod joint_box;
 mod point;
 mod protective;
 mod repulsion;
+mod self_pairs;
 
 pub use damper::VelocityDamper;
 pub use end_effector::EndEffectorTask;
@@ -69,6 +73,7 @@ pub use point::PointTask;
 pub use protective::ProtectiveBound;
 pub use repulsion::RepulsionTask;
 pub(crate) use repulsion::repulsion_rows;
+pub use self_pairs::SelfPairs;
 
 /// What the limits are computed from.
 #[derive(Clone, Copy, Debug)]
@@ -92,8 +97,8 @@ pub struct Inequalities<'a> {
     pub lo: Vec<f64>,
     /// Upper bounds of `q̇` (empty: unbounded).
     pub hi: Vec<f64>,
-    /// Row of each pair, by pair index.
-    pairs: Vec<Option<usize>>,
+    /// The row of each pair, by pair index (stacked after the others).
+    pairs: Vec<Option<(&'a [f64], f64)>>,
 }
 
 impl<'a> Inequalities<'a> {
@@ -108,6 +113,8 @@ impl<'a> Inequalities<'a> {
         for limit in limits.iter().filter(|l| keep(**l)) {
             limit.compute_qp_inequalities(ctx, &mut out);
         }
+        let pairs = std::mem::take(&mut out.pairs);
+        out.rows.extend(pairs.into_iter().flatten());
         if out.lo.is_empty() {
             let n = ctx.robot.dof();
             out.lo = vec![f64::NEG_INFINITY; n];
@@ -125,15 +132,13 @@ impl<'a> Inequalities<'a> {
     /// stacked that pair's row already, lowers its bound to `bound` if
     /// smaller (`b.min(bound)`).
     pub fn push_pair(&mut self, pair: usize, row: &'a [f64], bound: f64) {
-        if let Some(&Some(k)) = self.pairs.get(pair) {
-            self.rows[k].1 = self.rows[k].1.min(bound);
-            return;
-        }
         if self.pairs.len() <= pair {
             self.pairs.resize(pair + 1, None);
         }
-        self.pairs[pair] = Some(self.rows.len());
-        self.rows.push((row, bound));
+        match &mut self.pairs[pair] {
+            Some((_, b)) => *b = b.min(bound),
+            slot @ None => *slot = Some((row, bound)),
+        }
     }
 
     /// Narrows the box to `lo..hi` (the first box is taken as it is).
@@ -236,4 +241,25 @@ pub fn stack_tasks(ctx: &TaskContext, tasks: &[TaskReference]) -> Result<TaskRow
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pair_rows_come_in_pair_order_with_the_smaller_bound() {
+        let (a, b, c) = ([1.0, 0.0], [0.0, 1.0], [1.0, 1.0]);
+        let mut out = Inequalities::default();
+        out.push_pair(2, &c, 0.3);
+        out.push_pair(0, &a, 0.5);
+        out.push(&b, 9.0);
+        out.push_pair(0, &a, 0.2);
+        out.push_pair(2, &c, f64::INFINITY);
+        let pairs = std::mem::take(&mut out.pairs);
+        out.rows.extend(pairs.into_iter().flatten());
+        let bounds: Vec<f64> = out.rows.iter().map(|r| r.1).collect();
+        assert_eq!(bounds, vec![9.0, 0.2, 0.3]);
+        assert_eq!(out.rows[1].0, &a[..]);
+    }
 }

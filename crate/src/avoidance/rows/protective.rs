@@ -3,13 +3,13 @@
 //! with the braking of the joints, the time-to-collision slowdown and the
 //! escape from an obstacle that closes in faster than the arm could stop
 //! already in each guard's bound ([`crate::avoidance::protect::prepare`]).
-//! Obstacle pairs (`nᵀ J_θ`) and self pairs (`nᵀ (J_θ,a − J_θ,b)`) in the
-//! order of the guards.
+//! The row of a pair is `nᵀ J_θ` at the arm's witness; self pairs are
+//! [`super::SelfPairs`].
 
 use super::{Inequalities, Limit, LimitContext};
 use crate::avoidance::protect::Guard;
 
-/// One row per guard at its protective bound (hard).
+/// One row per skeleton–obstacle guard at its protective bound (hard).
 #[derive(Clone, Copy, Debug)]
 pub struct ProtectiveBound<'g> {
     /// This step's guards.
@@ -19,7 +19,9 @@ pub struct ProtectiveBound<'g> {
 impl Limit for ProtectiveBound<'_> {
     fn compute_qp_inequalities<'a>(&'a self, _: &LimitContext, out: &mut Inequalities<'a>) {
         for (k, g) in self.guards.iter().enumerate() {
-            out.push_pair(k, &g.row, g.bound);
+            if g.obstacle.is_some() {
+                out.push_pair(k, &g.row, g.bound);
+            }
         }
     }
 }
