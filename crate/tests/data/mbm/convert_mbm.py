@@ -25,6 +25,7 @@ import json
 import re
 import sys
 import tarfile
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -45,7 +46,6 @@ def urdf_chain():
         "pr2_goal_poses", ROOT / "crate/tests/data/neo/pr2_goal_poses.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    import xml.etree.ElementTree as ET
     joints = [module.Joint(e) for e in ET.fromstring(URDF.read_bytes()).findall("joint")]
     return module, module.chain(joints, "panda_link0", FLANGE)
 
@@ -106,8 +106,7 @@ def read_archive(path):
     return out
 
 
-def limits_of(module):
-    import xml.etree.ElementTree as ET
+def limits_of():
     out = {}
     for j in ET.fromstring(URDF.read_bytes()).findall("joint"):
         lim = j.find("limit")
@@ -213,7 +212,7 @@ def main(argv):
         "converted_by": "crate/tests/data/mbm/convert_mbm.py",
     }
     module, chain = urdf_chain()
-    limits = limits_of(module)
+    limits = limits_of()
     differ = []
     for directory, problems in sorted(read_archive(archive).items()):
         name = directory[: -len("_panda")] if directory.endswith("_panda") else directory
