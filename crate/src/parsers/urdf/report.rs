@@ -135,13 +135,13 @@ fn row_links(urdf: &urdf_rs::Robot, path: &[usize]) -> Vec<Vec<String>> {
 }
 
 /// The largest primitive collision radius of `link` (see
-/// [`super::primitive_radius`]), `None` when it has none.
+/// [`super::chain::primitive_radius`]), `None` when it has none.
 fn link_radius(link: &urdf_rs::Link) -> Option<f64> {
     link.collision
         .iter()
         .filter_map(|c| match c.geometry {
             Geometry::Mesh { .. } => None,
-            ref g => super::primitive_radius(g),
+            ref g => super::chain::primitive_radius(g),
         })
         .filter(|r| r.is_finite())
         .reduce(f64::max)

@@ -1,10 +1,10 @@
 //! The `HIERARCHY` of a BVH file: its joints, offsets and channels, read
-//! from a lazy stream of tokens (see [`super::bvh`] for the format and what
-//! is refused).
+//! from a lazy stream of tokens (see [`super`] for the format and what is
+//! refused).
 
 use glam::DVec3;
 
-use super::bvh::{MAX_BVH_JOINTS, MAX_BVH_VALUE};
+use super::{MAX_BVH_JOINTS, MAX_BVH_VALUE};
 use crate::error::FieldError;
 
 /// Longest joint name (characters).
