@@ -18,7 +18,8 @@
 //! - Axes may point anywhere (any sign: positive joint values keep the URDF's
 //!   sense); parallel, coincident and intersecting consecutive axes are
 //!   handled (see [`dh_from_axes`] for the choices,
-//!   [`dh_from_axes::PARALLEL_TOLERANCE`] for axes nearly parallel).
+//!   [`PARALLEL_TOLERANCE`](crate::kinematics::dh_from_axes::PARALLEL_TOLERANCE)
+//!   for axes nearly parallel).
 //! - Limits: `lower`/`upper` become `min`/`max` (none for `continuous`, and
 //!   none when `lower == upper`, which is how a missing `<limit>` reads);
 //!   `velocity` → `maxVelocity`, `effort` → `maxTorque`, and URDF 1.2's
