@@ -127,8 +127,8 @@ pub struct ImportedTrack {
     pub report: TrackReport,
 }
 
-/// Reads a track (JSON, CSV or BVH text) and maps it onto the human
-/// skeleton.
+/// Reads a track (JSON, CSV or BVH text, [`crate::parsers::track`]) and
+/// maps it onto the articulated human.
 ///
 /// # Errors
 /// See the module docs: the field and the reason of the first refusal.

@@ -24,15 +24,16 @@
 //!   by name (CMU style, `LeftArm`, `LeftForeArm`, `LeftHand`, `LeftUpLeg`,
 //!   `LeftLeg`, `LeftFoot`, `Head` under `Hips`, with the aliases listed in
 //!   `docs/scenarios.md`, [`bvh`]); they then go through the same repairs
-//!   and fit as keypoints. Units default to centimetres (`scale` 0.01) and the up axis
-//!   to y (`up`), BVH's usual conventions. Refused: a file that does not
-//!   start with `HIERARCHY`, a `ROOT` missing, repeated, or naming a
-//!   skeleton with no hips joint (`ROOT`), more than [`MAX_BVH_JOINTS`]
-//!   joints or a needed joint missing (`HIERARCHY`), bad channels
-//!   (`LeftArm.CHANNELS`) or offsets (`LeftArm.OFFSET`), unbalanced braces,
-//!   a file that ends inside its hierarchy (`MOTION`), a frame count that is
-//!   not a whole number in 1..=[`MAX_KEYFRAMES`] or does not match the frame
-//!   lines (`Frames`; checked before anything is allocated), a frame time
+//!   and fit as keypoints. Units default to centimetres (`scale` 0.01) and
+//!   the up axis to y (`up`), BVH's usual conventions. Refused: a file
+//!   that does not start with `HIERARCHY`, a `ROOT` missing, repeated, or
+//!   naming a hierarchy with no hips joint (`ROOT`), more than
+//!   [`MAX_BVH_JOINTS`] joints or a needed joint missing (`HIERARCHY`),
+//!   bad channels (`LeftArm.CHANNELS`) or offsets (`LeftArm.OFFSET`),
+//!   unbalanced braces, a file that ends inside its hierarchy (`MOTION`),
+//!   a frame count that is not a whole number in 1..=[`MAX_KEYFRAMES`] or
+//!   does not match the frame lines (`Frames`; checked before anything is
+//!   allocated), a frame time
 //!   outside (0, [`MAX_FRAME_TIME`]] s (`Frame Time`), a frame line with
 //!   the wrong number of values or a value that is not a finite number
 //!   within ±[`MAX_BVH_VALUE`] (`line 130`, naming the joint and channel).
@@ -45,8 +46,9 @@
 //! [`MAX_KEYFRAMES`] (`frames`), a timestamp that is not finite or does not
 //! increase (`frames[3].t`), a frame with the wrong number of keypoints
 //! (`frames[2].keypoints`), a CSV line with the wrong number of cells or a
-//! cell that is not a number (`line 5`). A CSV is read up to its
-//! [`MAX_KEYFRAMES`]` + 2`-th non-empty line.
+//! cell that is not a number (`line 5`). A CSV's non-empty lines past the
+//! first `MAX_KEYFRAMES + 2` are not looked at (more frames than the cap
+//! are refused).
 
 pub mod bvh;
 mod layout;

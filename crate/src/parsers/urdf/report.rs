@@ -5,8 +5,8 @@
 //! without primitive collision geometry, the joints outside the chain, and
 //! the pairs of links that overlap at the zero configuration (by their URDF
 //! names: an import that starts in self-collision says where; computed by
-//! `world::import_urdf`, since skeletons and distances are built on this
-//! layer).
+//! `world::import_urdf`, since the reader builds no skeleton and measures
+//! no distance).
 //!
 //! Also the cleaning of the DH table: values within [`DUST`] of 0, ±π/2 or
 //! ±π are set to them exactly (`-1.11e-16` → `0`, `-0` → `0`).

@@ -1,4 +1,4 @@
-//! Which joints of a BVH skeleton are the body's shoulders, elbows, wrists,
+//! Which joints of a BVH hierarchy are the body's shoulders, elbows, wrists,
 //! hips, knees, ankles and head: found by name, CMU style first
 //! (`LeftArm`, `LeftForeArm`, `LeftHand`, `LeftUpLeg`, `LeftLeg`,
 //! `LeftFoot`, `Head`, under a root `Hips`), with aliases.
@@ -72,7 +72,7 @@ fn aliases_text(aliases: &[&str], side: &str) -> String {
 ///
 /// # Errors
 /// `ROOT: … is not a hips joint …` (no `Hips`, `Hip` or `Pelvis` in the
-/// skeleton), `HIERARCHY: no joint for the left elbow …`.
+/// hierarchy), `HIERARCHY: no joint for the left elbow …`.
 pub(super) fn body_joints(h: &Hierarchy) -> Result<[(usize, bool); 14], FieldError> {
     let names: Vec<String> = h.joints.iter().map(|j| normalise(&j.name)).collect();
     if find(&names, HIPS, None).is_none() {
