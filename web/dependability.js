@@ -5,6 +5,10 @@
 // heat map over a horizontal plane at a chosen height of the clearance (or,
 // with a library that has `World.riskAt`, the switch probability) of the
 // selected obstacle placed at each point, with the arm where it is.
+//
+// Owns: the section's elements and the running study (`study`: the tests
+// read its `report` and `riskValues`). Interface: `sim` (the scene studied),
+// `messages` and `selected()` (the selected obstacle's id, or null).
 import { clone, errorText, h } from './dom.js';
 import { shapeCenter, translateShape } from './shapes.js';
 
@@ -37,10 +41,13 @@ const mm = (x, digits = 1) => (x === null || x === undefined ? '—' : `${(x * 1
 const digitsFor = (range) => (range > 0 ? Math.min(4, Math.max(1, Math.ceil(-Math.log10(range * 1000)) + 1)) : 1);
 const pct = (x) => `${(x * 100).toFixed(1)} %`;
 
-/** The section's DOM; wires itself to the playground `pg`. */
-export function buildDependability(pg) {
+/**
+ * The section: `{ element, context }`; `context` (the host's interface with
+ * the section's own state as `study`) is what `refreshDependability` takes.
+ */
+export function buildDependability(host) {
   const d = {};
-  pg.study = d;
+  const pg = { sim: host.sim, messages: host.messages, selected: host.selected, study: d };
   const num = (id, value, title) => h('input', { type: 'number', id, value, title });
   d.runs = num('study-runs', '200', `1..${MAX_PAGE_RUNS}`);
   d.duration = num('study-duration', '2', 's per run');
@@ -63,7 +70,7 @@ export function buildDependability(pg) {
     'aria-label': 'risk map: the selected obstacle placed at each point of a horizontal plane' });
   d.riskMessage = h('div', { class: 'hint', id: 'risk-message' });
   const field = (label, input) => h('div', { class: 'row' }, h('label', {}, label, input));
-  return h('section', { id: 'dependability', 'aria-label': 'dependability' },
+  const element = h('section', { id: 'dependability', 'aria-label': 'dependability' },
     h('h3', {}, 'Dependability'),
     h('p', { class: 'hint' }, 'Noisy copies of the scene as it is now, each with its own sensing errors ',
       `(a scene sensed exactly gets bias ≤ ${STUDY_NOISE.biasBound * 1000} mm, σ ${STUDY_NOISE.sigma * 1000} mm).`),
@@ -73,17 +80,18 @@ export function buildDependability(pg) {
     h('div', { class: 'row' }, h('label', {}, 'plane height', d.height, d.heightOut), d.atObstacle),
     h('div', { class: 'row' }, d.riskKind, d.riskButton),
     d.risk, d.riskMessage);
+  return { element, context: pg };
 }
 
 /** Called when the scene changes: offers the switch probability when the library has it, sets the plane height. */
 export function refreshDependability(pg) {
   const d = pg.study;
-  if (!d || !pg.world) return;
-  if (typeof pg.world.riskAt === 'function' && d.riskKind.options.length === 1) {
+  if (!d || !pg.sim.world) return;
+  if (typeof pg.sim.world.riskAt === 'function' && d.riskKind.options.length === 1) {
     d.riskKind.append(h('option', { value: 'switchProbability' }, 'switch probability'));
   }
   // The plane spans the arm's heights; it starts at their middle.
-  const zs = pg.world.state(pg.world.eventCount).skeleton.nodes.map((n) => n[2]);
+  const zs = pg.sim.world.state(pg.sim.world.eventCount).skeleton.nodes.map((n) => n[2]);
   const [lo, hi] = [Math.min(...zs), Math.max(...zs)];
   d.height.min = String((lo - 0.3).toFixed(2));
   d.height.max = String((hi + 0.3).toFixed(2));
@@ -94,7 +102,7 @@ export function refreshDependability(pg) {
 /** Puts the plane through the selected obstacle's centre (a message when none is selected). */
 function planeThroughSelected(pg) {
   const d = pg.study;
-  const shape = pg.selected && pg.shapeOf(pg.selected);
+  const shape = pg.selected() && pg.sim.shapeOf(pg.selected());
   if (!shape) {
     d.riskMessage.textContent = 'Select an obstacle first (click it in the view or in the list).';
     return;
@@ -109,7 +117,7 @@ function planeThroughSelected(pg) {
 // ---- the study ----
 
 function studyScenario(pg, duration) {
-  const s = clone(pg.currentScenario());
+  const s = clone(pg.sim.currentScenario());
   s.duration = duration;
   const sensing = s.sensing ?? {};
   const noisy = Object.values(sensing).some((v) => v && Object.entries(v).some(([k, x]) => k !== 'seed' && x > 0));
@@ -268,10 +276,10 @@ function mapExtent(state) {
 
 function riskMap(pg) {
   const d = pg.study;
-  pg.guard(() => {
-    const state = pg.world.state(pg.world.eventCount);
+  pg.messages.guard(() => {
+    const state = pg.sim.world.state(pg.sim.world.eventCount);
     const z = Number(d.height.value);
-    const selected = pg.selected && state.obstacles.find((o) => o.id === pg.selected);
+    const selected = pg.selected() && state.obstacles.find((o) => o.id === pg.selected());
     const shape = selected ? selected.shape : PROBE;
     const c0 = shapeCenter(shape);
     const { cx, cy, half } = mapExtent(state);
@@ -282,10 +290,10 @@ function riskMap(pg) {
       for (let i = 0; i < RISK_GRID; i++) {
         const p = [cx - half + ((i + 0.5) * 2 * half) / RISK_GRID, cy + half - ((j + 0.5) * 2 * half) / RISK_GRID, z];
         const placed = translateShape(shape, [p[0] - c0[0], p[1] - c0[1], p[2] - c0[2]]);
-        values.push(kind === 'clearance' ? pg.world.clearanceTo(placed) : pg.world.riskAt(placed, sensing).switchProbability);
+        values.push(kind === 'clearance' ? pg.sim.world.clearanceTo(placed) : pg.sim.world.riskAt(placed, sensing).switchProbability);
       }
     }
-    const influence = pg.influence();
+    const influence = pg.sim.influence();
     d.riskValues = { kind, values, extent: { cx, cy, half }, z };
     drawRisk(d.risk, d.riskValues, influence, state);
     d.riskMessage.textContent = `${selected ? `“${selected.id}”` : 'a 5 cm sphere'} placed at ${RISK_GRID}×${RISK_GRID} points at z = ${z.toFixed(2)} m; ` +
@@ -296,7 +304,7 @@ function riskMap(pg) {
 
 /** The sensing of obstacle `id` in the scene (its own, else the default), or the study's noise when it is exact. */
 function riskSensing(pg, id) {
-  const sensing = pg.scenario.sensing ?? {};
+  const sensing = pg.sim.scenario.sensing ?? {};
   const spec = (id && sensing[id]) || sensing.default || {};
   const noisy = Object.entries(spec).some(([k, x]) => k !== 'seed' && k !== 'latency' && x > 0);
   return noisy ? spec : { ...STUDY_NOISE };

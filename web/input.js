@@ -5,6 +5,11 @@
 // says so otherwise; on touch screens vertical swipes scroll the page
 // (`touch-action: pan-y`), horizontal drags orbit, two fingers pinch-zoom
 // and pan. A double click (or F) frames the scene.
+//
+// Owns nothing lasting (a drag or a pinch in progress). Interface, given by
+// the Playground (`InputHost` below): the canvas and the element whose keys
+// it handles, the viewer, picking, the edits and pinning parts, messages,
+// the wheel's engagement and the commands the keys run.
 import { PALETTE, add, dot, len, moveHumanHand, mul, rotateShape, scaleShape, sub, translateShape } from './shapes.js';
 
 
@@ -26,7 +31,7 @@ function onPlane(viewer, px, p0, n) {
 
 /** A drag that starts on an obstacle: it moves on the plane facing the camera. */
 function obstacleDrag(pg, px, hit, e) {
-  const viewer = pg.viewer;
+  const viewer = pg.viewer();
   const n = viewer.viewDirection();
   // Metres per pixel at the picked point, for moves along the normal.
   const a = onPlane(viewer, px, hit.point, n);
@@ -46,31 +51,51 @@ function moveObstacle(pg, drag, e) {
   if (drag.hand) {
     // A hand follows the pointer on the plane facing the camera; only its
     // arm moves (the library solves the arm), the rest of the body stays.
-    const p = onPlane(pg.viewer, px, drag.start, drag.n);
+    const p = onPlane(pg.viewer(), px, drag.start, drag.n);
     if (!p) return true;
-    const moved = pg.guard(() => moveHumanHand(drag.shape, drag.hand, sub(p, drag.start)));
+    const moved = pg.messages.guard(() => moveHumanHand(drag.shape, drag.hand, sub(p, drag.start)));
     if (!moved) return true;
     drag.moved = true;
-    return pg.setShape(drag.id, moved);
+    return pg.edits.setShape(drag.id, moved);
   }
   let delta;
   if (e.altKey || e.ctrlKey || e.metaKey) {
     delta = mul(drag.n, (px[1] - drag.y) * drag.mpp);
   } else {
-    const p = onPlane(pg.viewer, px, drag.point, drag.n);
+    const p = onPlane(pg.viewer(), px, drag.point, drag.n);
     if (!p) return true;
     delta = sub(p, drag.point);
   }
   drag.y = px[1];
   if (len(delta) === 0) return true;
-  const moved = pg.guard(() => translateShape(drag.shape, delta));
+  const moved = pg.messages.guard(() => translateShape(drag.shape, delta));
   if (!moved) return true;
   drag.point = add(drag.point, delta);
   drag.shape = moved;
   drag.moved = true;
-  return pg.setShape(drag.id, drag.shape);
+  return pg.edits.setShape(drag.id, drag.shape);
 }
 
+/**
+ * @typedef {object} InputHost
+ * @property {HTMLCanvasElement} canvas
+ * @property {EventTarget} keys where the widget's keys are read
+ * @property {() => any} viewer
+ * @property {(origin: number[], direction: number[]) => any} pick the obstacle a ray hits
+ * @property {(id: string) => object|undefined} shapeOf
+ * @property {import('./scene-edits.js').SceneEdits} edits
+ * @property {import('./pinning.js').Pinning} pinning
+ * @property {import('./messages.js').Messages} messages
+ * @property {(on?: boolean) => void} engage the wheel zooms (`on`), or back to the default
+ * @property {() => boolean} engaged
+ * @property {() => void} cameraMoved
+ * @property {() => void} refreshSelected
+ * @property {boolean} full a full widget (obstacle and pin keys)
+ * @property {{ toggleRun: () => void, singleStep: () => void, reset: () => void, fit: () => void,
+ *              toggleHelp: (show?: boolean) => void, showView: (view: string) => void }} commands
+ */
+
+/** @param {InputHost} pg */
 export function wireInput(pg) {
   const canvas = pg.canvas;
   const pointers = new Map();
@@ -84,7 +109,7 @@ export function wireInput(pg) {
   canvas.addEventListener('contextmenu', (e) => e.preventDefault());
   canvas.addEventListener('pointerdown', (e) => {
     canvas.focus({ preventScroll: true });
-    pg.engaged = true;
+    pg.engage(true);
     pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
     if (pointers.size === 2) {
       // A second finger: the gesture becomes a pinch (zoom) with a two-finger pan.
@@ -97,12 +122,12 @@ export function wireInput(pg) {
     const px = pixel(canvas, e);
     const camera = e.button === 2 || e.button === 1 || e.shiftKey;
     // Pin mode: a click on a link pins a control point there (nothing is dragged).
-    if (pg.pinMode && !camera && e.button === 0 && pg.pinAt(px)) return;
+    if (pg.pinning.mode && !camera && e.button === 0 && pg.pinning.pinAt(px)) return;
     if (!camera && e.button === 0) {
-      const ray = pg.viewer.rayAt(px[0], px[1]);
-      const hit = pg.guard(() => pg.world.pick(ray.origin, ray.direction));
+      const ray = pg.viewer().rayAt(px[0], px[1]);
+      const hit = pg.messages.guard(() => pg.pick(ray.origin, ray.direction));
       if (hit) {
-        pg.select(hit.id);
+        pg.edits.select(hit.id);
         drag = obstacleDrag(pg, px, hit, e);
         const hand = grabbedHand(hit);
         if (hand && !e.altKey) Object.assign(drag, { hand, start: drag.point });
@@ -115,8 +140,8 @@ export function wireInput(pg) {
     if (pointers.has(e.pointerId)) pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
     if (pinch && pointers.size === 2) {
       const now = pinchState();
-      if (now.d > 1 && pinch.d > 1) pg.viewer.zoom(pinch.d / now.d);
-      pg.viewer.pan((now.x - pinch.x) * dpr(), (now.y - pinch.y) * dpr());
+      if (now.d > 1 && pinch.d > 1) pg.viewer().zoom(pinch.d / now.d);
+      pg.viewer().pan((now.x - pinch.x) * dpr(), (now.y - pinch.y) * dpr());
       pg.cameraMoved();
       pinch = now;
       return;
@@ -129,8 +154,8 @@ export function wireInput(pg) {
       drag.y = e.clientY;
       if (!dx && !dy) return;
       drag.moved = true;
-      if (drag.pan || pg.viewer.view !== '3d') pg.viewer.pan(dx, dy);
-      else pg.viewer.orbit(dx, dy);
+      if (drag.pan || pg.viewer().view !== '3d') pg.viewer().pan(dx, dy);
+      else pg.viewer().orbit(dx, dy);
       pg.cameraMoved();
       return;
     }
@@ -146,7 +171,7 @@ export function wireInput(pg) {
       drag = null;
       return;
     }
-    if (drag?.kind === 'camera' && !drag.moved && !drag.pan && e.type === 'pointerup') pg.select(null);
+    if (drag?.kind === 'camera' && !drag.moved && !drag.pan && e.type === 'pointerup') pg.edits.select(null);
     if (drag?.kind === 'obstacle') pg.refreshSelected();
     drag = null;
   };
@@ -154,31 +179,27 @@ export function wireInput(pg) {
   canvas.addEventListener('pointercancel', end);
   canvas.addEventListener('dblclick', (e) => {
     e.preventDefault();
-    pg.fit();
+    pg.commands.fit();
   });
-  canvas.addEventListener('blur', () => { pg.engaged = pg.options.captureWheel ?? false; });
+  canvas.addEventListener('blur', () => pg.engage());
   canvas.addEventListener('wheel', (e) => {
-    if (!(pg.engaged || e.ctrlKey || e.metaKey)) {
+    if (!(pg.engaged() || e.ctrlKey || e.metaKey)) {
       // Let the page scroll; say how to zoom.
-      pg.hint('Click the view (or hold Ctrl) to zoom with the wheel');
+      pg.messages.hint('Click the view (or hold Ctrl) to zoom with the wheel');
       return;
     }
     e.preventDefault();
     // A pinch on a touchpad arrives as a Ctrl + wheel with small deltas.
-    pg.viewer.zoom(Math.exp(e.deltaY * (e.ctrlKey ? 0.01 : 0.001)));
+    pg.viewer().zoom(Math.exp(e.deltaY * (e.ctrlKey ? 0.01 : 0.001)));
     pg.cameraMoved();
   }, { passive: false });
-  const keys = pg.options.keyboardTarget ?? pg.container;
-  keys.addEventListener('keydown', (e) => onKey(pg, e));
+  pg.keys.addEventListener('keydown', (e) => onKey(pg, e));
 }
 
 const VIEWS = ['3d', 'top', 'front', 'side'];
 
 function nextView(pg) {
-  const next = VIEWS[(VIEWS.indexOf(pg.viewer.view) + 1) % VIEWS.length];
-  pg.viewer.setView(next);
-  pg.fit();
-  if (pg.panel) pg.panel.viewSelect.value = next;
+  pg.commands.showView(VIEWS[(VIEWS.indexOf(pg.viewer().view) + 1) % VIEWS.length]);
 }
 
 /** The widget's keys (see the help box); keys typed into a field or on a button are theirs. */
@@ -189,27 +210,27 @@ export function onKey(pg, e) {
   if (t && (t.tagName === 'BUTTON' || t.tagName === 'LI' || t.tagName === 'SUMMARY') && (e.key === ' ' || e.key === 'Enter')) return;
   if (e.ctrlKey || e.metaKey || e.altKey) return;
   const actions = {
-    ' ': () => pg.toggleRun(),
-    s: () => pg.singleStep(),
-    '.': () => pg.singleStep(),
-    r: () => pg.reset(),
-    f: () => pg.fit(),
-    Delete: () => pg.removeSelected(),
-    Backspace: () => pg.removeSelected(),
-    Escape: () => { pg.toggleHelp(false); pg.select(null); if (pg.pinMode) pg.setPinMode(false); },
-    p: () => { if (pg.controls === 'full') pg.setPinMode(); },
-    '?': () => pg.toggleHelp(),
-    h: () => pg.toggleHelp(),
-    '[': () => pg.editSelected((s) => scaleShape(s, 0.8)),
-    ']': () => pg.editSelected((s) => scaleShape(s, 1.25)),
-    q: () => pg.editSelected((s) => rotateShape(s, [0, 0, 1], Math.PI / 12)),
-    e: () => pg.editSelected((s) => rotateShape(s, [0, 0, 1], -Math.PI / 12)),
+    ' ': () => pg.commands.toggleRun(),
+    s: () => pg.commands.singleStep(),
+    '.': () => pg.commands.singleStep(),
+    r: () => pg.commands.reset(),
+    f: () => pg.commands.fit(),
+    Delete: () => pg.edits.removeSelected(),
+    Backspace: () => pg.edits.removeSelected(),
+    Escape: () => { pg.commands.toggleHelp(false); pg.edits.select(null); if (pg.pinning.mode) pg.pinning.setMode(false); },
+    p: () => { if (pg.full) pg.pinning.setMode(); },
+    '?': () => pg.commands.toggleHelp(),
+    h: () => pg.commands.toggleHelp(),
+    '[': () => pg.edits.editSelected((s) => scaleShape(s, 0.8)),
+    ']': () => pg.edits.editSelected((s) => scaleShape(s, 1.25)),
+    q: () => pg.edits.editSelected((s) => rotateShape(s, [0, 0, 1], Math.PI / 12)),
+    e: () => pg.edits.editSelected((s) => rotateShape(s, [0, 0, 1], -Math.PI / 12)),
     v: () => nextView(pg),
   };
   const key = e.key.length === 1 ? e.key.toLowerCase() : e.key;
   let action = actions[key];
   const k = '1234567890'.indexOf(e.key);
-  if (!action && k >= 0 && pg.controls === 'full') action = () => pg.addObstacle(PALETTE[k]);
+  if (!action && k >= 0 && pg.full) action = () => pg.edits.addObstacle(PALETTE[k]);
   if (!action) return;
   e.preventDefault();
   action();

@@ -6,7 +6,11 @@
 // dist/robots/ within a size budget, scripts/site.mjs), and drawn on the
 // preset (`Viewer.setMeshesFromUrdf`: the URDF's tip must follow the
 // preset's last frame). A folder that cannot be read leaves the volumes
-// alone, with one line in the status. Mixed into the Playground.
+// alone, with one line in the status.
+//
+// Owns: the fetched files per preset (`files`, fetched once) and the preset
+// whose meshes are drawn (`shown`). Interface: `base` (the folder, or
+// undefined for none), `sim` (the robot shown), `viewer()`, `messages`.
 
 /** Per preset: its URDF, the URDF's tip at the preset's last frame, the licences, the mesh files (paths under the folder). */
 export const PRESET_MESHES = {
@@ -37,30 +41,40 @@ export function presetName(robot) {
   return null;
 }
 
-export const presetMeshMethods = {
+export class PresetMeshes {
+  /**
+   * @param {{ base: string|undefined, sim: import('./sim.js').Sim, viewer: () => any,
+   *           messages: import('./messages.js').Messages }} host
+   */
+  constructor(host) {
+    this.host = host;
+    this.files = {};
+    this.shown = null;
+  }
+
   /** Draws the current preset's meshes (fetched on first use); nothing for other robots. */
-  async showPresetMeshes() {
-    const base = this.options.presetMeshes;
-    const name = presetName(this.scenario?.robot);
+  async show() {
+    const { base, sim } = this.host;
+    const name = presetName(sim.scenario?.robot);
     const entry = base && name ? PRESET_MESHES[name] : null;
-    this.presetMeshesShown = null; // setRobot has just dropped any meshes
+    this.shown = null; // setRobot has just dropped any meshes
     if (!entry) return;
-    this.presetFiles ??= {};
-    const robotSpec = this.robotSpec;
+    const robotSpec = sim.robotSpec;
     try {
-      this.presetFiles[name] ??= fetchPreset(new URL(base, document.baseURI), entry);
-      const { xml, meshes } = await this.presetFiles[name];
+      this.files[name] ??= fetchPreset(new URL(base, document.baseURI), entry);
+      const { xml, meshes } = await this.files[name];
       // Still the same robot (no other scene loaded meanwhile).
-      if (this.robotSpec !== robotSpec || !this.viewer) return;
-      this.viewer.setMeshesFromUrdf(xml, { tip: entry.tip, meshes });
-      this.presetMeshesShown = name;
-      this.edited = true;
+      const viewer = this.host.viewer();
+      if (sim.robotSpec !== robotSpec || !viewer) return;
+      viewer.setMeshesFromUrdf(xml, { tip: entry.tip, meshes });
+      this.shown = name;
+      sim.edited = true;
     } catch (err) {
-      delete this.presetFiles[name];
-      this.setStatus(`The ${name} meshes could not be drawn: ${err instanceof Error ? err.message : String(err)}`);
+      delete this.files[name];
+      this.host.messages.status(`The ${name} meshes could not be drawn: ${err instanceof Error ? err.message : String(err)}`);
     }
-  },
-};
+  }
+}
 
 async function fetchPreset(base, entry) {
   const get = async (path) => {

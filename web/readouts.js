@@ -1,67 +1,55 @@
-// What the widget reads out of the world each frame, as methods mixed into
-// the Playground: the plots' samples, the events, the text over the view,
-// and the plots' cursor moved to an event.
+// What the widget reads out of the world for the person: the text over the
+// view (the HUD: time, clearance, time to collision, control points) and
+// the stats overlay (frame rate, steps per frame, time spent).
+//
+// Owns: the HUD and stats boxes and the frame statistics (`stats`).
+// Interface: `sim` (the state and the scenario read), `running()`,
+// `speed()` and `backend()`.
+import { h } from './dom.js';
 
-export const readoutMethods = {
-  /** The influence distance in force (m): the scenario's or the library's default. */
-  influence() {
-    // The value in effect: the library's default when the scenario omits it.
-    return this.world?.controller().influenceDistance ?? this.scenario.controller?.influenceDistance ?? 0.3;
-  },
+export class Readouts {
+  /**
+   * @param {{ sim: import('./sim.js').Sim, running: () => boolean, speed: () => number, backend: () => string }} host
+   */
+  constructor(host) {
+    this.host = host;
+    this.hud = h('div', { class: 'hud', id: 'hud' });
+    this.statsBox = h('div', { class: 'stats', id: 'stats', 'aria-hidden': 'true' });
+    this.stats = { fps: 0, frameMs: 0, stepsPerFrame: 0, stepMs: 0, drawMs: 0 };
+    this.frameTimes = [];
+    this.droppedS = 0;
+    this.wallS = 0;
+  }
 
-  record() {
-    const s = this.state;
-    const t = s.t;
-    this.trace.push(s);
-    // Beyond the influence distance the world does not measure: the line
-    // stays at the influence distance, drawn dashed, and the HUD says "beyond".
-    const far = !Number.isFinite(s.minClearance);
-    this.plots.clearance.push('min', t, far ? this.influence() : s.minClearance, { far });
-    // One line per obstacle (and per control point on it), so colours stay with their obstacle.
-    const seen = new Map();
-    for (const cp of s.controlPoints) {
-      const k = (seen.get(cp.obstacle) ?? 0) + 1;
-      seen.set(cp.obstacle, k);
-      this.plots.clearance.push(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, t, cp.distance, { sigma: cp.sigma?.distance });
-      // A human's line carries the name of its closest part (the legend shows the latest).
-      if (cp.part) this.plots.clearance.label(k === 1 ? cp.obstacle : `${cp.obstacle} #${k}`, `${cp.obstacle}: ${cp.part.split(':').pop()}`);
-    }
-    // Fig. 5: the DH table of the control point's shorter manipulator (the
-    // library's `table`), main-chain rows; the `d` rows only for robots
-    // with a non-zero d.
-    const cp = s.controlPoints.find((c) => c.transitioning) ?? s.controlPoints[0];
-    const joints = this.robotSpec?.joints ?? [];
-    const anyD = joints.some((j) => j.d !== 0);
-    joints.forEach((_, i) => {
-      const row = i + 1;
-      const r = cp?.table?.[i] ?? { d: NaN, a: NaN };
-      // The control point's own row carries the propagated σ of its witness as a band.
-      const sd = (x) => ({ sigma: cp && row === cp.link ? x : 0 });
-      this.plots.dh.push(`a${row}`, t, r.a, sd(cp?.sigma?.a));
-      if (anyD) this.plots.dh.push(`d${row}`, t, r.d, sd(cp?.sigma?.d));
-    });
-    Array.from(s.qdot ?? []).forEach((v, i) => this.plots.qdot.push(`q̇${i + 1}`, t, v));
-  },
+  /** One frame's figures: its timestamp, the steps it ran and the ms spent stepping and drawing. */
+  measure(now, steps, stepMs, drawMs) {
+    this.frameTimes.push(now);
+    if (this.frameTimes.length > 61) this.frameTimes.shift();
+    const n = this.frameTimes.length - 1;
+    const span = n > 0 ? this.frameTimes[n] - this.frameTimes[0] : 0;
+    const k = 0.1;
+    this.stats = {
+      fps: span > 0 ? (1000 * n) / span : 0,
+      frameMs: span > 0 ? span / n : 0,
+      stepsPerFrame: steps,
+      meanSteps: (this.stats.meanSteps ?? steps) * (1 - k) + steps * k,
+      stepMs: (this.stats.stepMs ?? 0) * (1 - k) + stepMs * k,
+      drawMs: (this.stats.drawMs ?? 0) * (1 - k) + drawMs * k,
+      droppedS: this.droppedS,
+      wallS: this.wallS,
+      backend: this.host.backend(),
+    };
+  }
 
-  showEvents() {
-    // `state(since)` returns the events from index `since` on (a binding
-    // without the cursor returns them all).
-    let events = this.state.events ?? [];
-    const total = typeof this.world.eventCount === 'number' ? this.world.eventCount : events.length;
-    if (events.length === total) events = events.slice(this.seenEvents);
-    this.events.queue(events);
-    this.trace.events(events);
-    this.seenEvents = total;
-  },
-
-  refreshHud() {
-    const s = this.state;
+  /** Writes the stats and the HUD from the last state read. */
+  refresh() {
+    const { sim } = this.host;
     const st = this.stats;
     this.statsBox.textContent = `${st.fps.toFixed(0)} fps  ${st.frameMs.toFixed(1)} ms/frame\n`
-      + `${st.stepsPerFrame} steps/frame (${(1 / this.scenario.dt).toFixed(0)} Hz × ${this.speed.toFixed(2)})\n`
-      + `step ${st.stepMs.toFixed(2)} ms  draw ${st.drawMs.toFixed(2)} ms  ${this.backend === 'webgpu' ? 'WebGPU' : 'WebGL2'}`;
-    this.hud.textContent = hudLines(s, this.running, this.influence()).join('\n');
-  },
+      + `${st.stepsPerFrame} steps/frame (${(1 / sim.scenario.dt).toFixed(0)} Hz × ${this.host.speed().toFixed(2)})\n`
+      + `step ${st.stepMs.toFixed(2)} ms  draw ${st.drawMs.toFixed(2)} ms  ${this.host.backend() === 'webgpu' ? 'WebGPU' : 'WebGL2'}`;
+    this.hud.textContent = hudLines(sim.state, this.host.running(), sim.influence()).join('\n');
+  }
 
   /**
    * How much taller the HUD will get in a scene with a person (CSS px): a
@@ -72,11 +60,11 @@ export const readoutMethods = {
    * phone's HUD is half of 390 px) count as the rows they take. Other
    * scenes are framed below the HUD as it is.
    */
-  hudGrowth() {
-    const obstacles = this.scenario?.obstacles ?? [];
+  growth() {
+    const obstacles = this.host.sim.scenario?.obstacles ?? [];
     const person = obstacles.find((o) => o.shape?.type === 'human');
     if (!person) return 0;
-    const sensed = this.scenario?.sensing ?? {};
+    const sensed = this.host.sim.scenario?.sensing ?? {};
     const cp = (near) => ({ link: 5, d: 0.277, a: -0.083, ...(near ? { part: `${person.id}:leftHand` } : {}),
       ...(near && Object.hasOwn(sensed, person.id) ? { sigma: { d: 0.005, a: 0.005 } } : {}) });
     const typical = {
@@ -90,21 +78,13 @@ export const readoutMethods = {
     const copy = this.hud.cloneNode(false);
     copy.removeAttribute('id');
     copy.style.visibility = 'hidden';
-    copy.textContent = hudLines(typical, true, this.influence()).join('\n');
+    copy.textContent = hudLines(typical, true, this.host.sim.influence()).join('\n');
     this.hud.after(copy);
     const grown = copy.getBoundingClientRect().height - this.hud.getBoundingClientRect().height;
     copy.remove();
     return Math.max(0, grown);
-  },
-
-  /** Moves the plots' cursor to time `t` (s) and pauses, so the moment can be read. */
-  seek(t) {
-    if (this.running) this.toggleRun();
-    for (const plot of Object.values(this.plots)) plot.mark(t);
-    this.seekPending = true;
-    this.setStatus(`Plots marked at t = ${t.toFixed(3)} s.`);
-  },
-};
+  }
+}
 
 const ms = (x) => `${(x * 1000).toFixed(0)} mm`;
 

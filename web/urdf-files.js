@@ -1,6 +1,11 @@
 // A URDF and its meshes into the page: a dropped folder, a zip, or picked
 // files; the robot's volumes are fitted to its collision meshes (`fitUrdf`)
-// and the meshes drawn (`Viewer.setUrdf`). Mixed into the Playground.
+// and the meshes drawn (`Viewer.setUrdf`).
+//
+// Owns: the last fit's report (`report`: coverage before and after).
+// Interface: `sim` (the library, the current scenario's timing), `messages`,
+// `load(scenario, label)` (loads a scene; null or the refusal) and
+// `showUrdf(xml, meshes)` (the viewer draws the URDF's meshes, framed).
 //
 // Caps (a hostile drop keeps the page responsive and loads nothing from the
 // offending file): 2000 files, 32 MiB per file, 256 MiB in all, zip entries
@@ -140,55 +145,63 @@ async function readAll(items, problems) {
 
 const percent = (x) => `${(100 * x).toFixed(1)} %`;
 
-export const urdfMethods = {
+export class UrdfLoading {
+  /**
+   * @param {{ sim: import('./sim.js').Sim, messages: import('./messages.js').Messages,
+   *           load: (scenario: object, label: string) => string|null, showUrdf: (xml: string, meshes: object) => void }} host
+   */
+  constructor(host) {
+    this.host = host;
+    this.report = null;
+  }
+
   /** Loads a URDF and its meshes from dropped items or picked files. */
-  async loadUrdfItems(items) {
+  async loadItems(items) {
     const problems = [];
     let files;
     try {
       files = await readAll(items, problems);
     } catch (err) {
-      this.showError(`${errorText(err)}\nThe current scene is unchanged.`);
+      this.host.messages.error(`${errorText(err)}\nThe current scene is unchanged.`);
       return;
     }
     const urdfs = files.filter((f) => /\.urdf$/i.test(f.path)).sort((a, b) => a.path.length - b.path.length);
     if (urdfs.length === 0) {
-      this.showError(`No .urdf file among the ${files.length} files given.${problems.length ? `\n${problems.join('\n')}` : ''}\nThe current scene is unchanged.`);
+      this.host.messages.error(`No .urdf file among the ${files.length} files given.${problems.length ? `\n${problems.join('\n')}` : ''}\nThe current scene is unchanged.`);
       return;
     }
     const xml = new TextDecoder().decode(urdfs[0].bytes);
     const meshes = Object.fromEntries(files.filter((f) => !/\.urdf$/i.test(f.path)).map((f) => [f.path, f.bytes]));
-    this.loadUrdf(xml, meshes, urdfs[0].path, problems);
-  },
+    this.load(xml, meshes, urdfs[0].path, problems);
+  }
 
   /** Fits, loads and draws a URDF with its mesh files; reports the figures and every problem. */
-  loadUrdf(xml, meshes, name, problems = []) {
+  load(xml, meshes, name, problems = []) {
+    const { sim, messages } = this.host;
     let fit;
     try {
-      fit = this.wasm.fitUrdf(xml, { meshes });
+      fit = sim.wasm.fitUrdf(xml, { meshes });
     } catch (err) {
-      this.showError(`The URDF "${name}" could not be loaded; the current scene is unchanged.\n${errorText(err)}`);
+      messages.error(`The URDF "${name}" could not be loaded; the current scene is unchanged.\n${errorText(err)}`);
       return null;
     }
-    const scenario = { robot: fit.robot, obstacles: [], dt: this.scenario?.dt ?? 0.001, duration: this.scenario?.duration ?? 10 };
-    if (this.loadScenario(scenario, `URDF ${name}`)) return null;
-    this.guard(() => this.viewer.setUrdf(xml, { meshes }));
-    this.drawWorld();
-    this.fit();
+    const scenario = { robot: fit.robot, obstacles: [], dt: sim.scenario?.dt ?? 0.001, duration: sim.scenario?.duration ?? 10 };
+    if (this.host.load(scenario, `URDF ${name}`)) return null;
+    this.host.showUrdf(xml, meshes);
     const all = [...problems, ...fit.problems];
     const figures = fit.after
       ? `Volumes fitted to ${fit.after.bodies.length} collision meshes: vertices inside ${percent(fit.before.robot.vertexCoverage)} → ${percent(fit.after.robot.vertexCoverage)}, surface within ${fit.after.surfaceTolerance * 1000} mm ${percent(fit.before.robot.surfaceCoverage)} → ${percent(fit.after.robot.surfaceCoverage)}, excess ${fit.before.robot.excess.toFixed(2)} → ${fit.after.robot.excess.toFixed(2)}.`
       : 'No collision mesh could be read: radii as imported.';
-    this.urdfReport = fit;
-    this.setStatus(`Loaded URDF ${name}. ${figures}`);
-    if (all.length) this.showError(`Loaded "${name}" with what was found; not loaded:\n${all.join('\n')}`);
+    this.report = fit;
+    messages.status(`Loaded URDF ${name}. ${figures}`);
+    if (all.length) messages.error(`Loaded "${name}" with what was found; not loaded:\n${all.join('\n')}`);
     return fit;
-  },
+  }
 
-  /** Handles a drop on the page: a folder, a zip or files holding a URDF. */
-  async dropUrdf(event) {
+  /** Handles a drop on the view: a folder, a zip or files holding a URDF. */
+  async drop(event) {
     event.preventDefault();
     const items = await dropped(event.dataTransfer);
-    await this.loadUrdfItems(items);
-  },
-};
+    await this.loadItems(items);
+  }
+}
