@@ -400,6 +400,17 @@ impl DhPoint {
         }
     }
 
+    /// `ṡ = ḋ'/d_i`, the rate of the fraction `s` of its own prismatic
+    /// column `s z` the point slides along (0 off the column's span).
+    fn slide_rate(&self, frames: &Frames, d_rate: f64) -> f64 {
+        let d_full = frames.d[self.link - 1];
+        if d_full.abs() > SPAN_TOLERANCE && (0.0..=1.0).contains(&(self.d / d_full)) {
+            d_rate / d_full
+        } else {
+            0.0
+        }
+    }
+
     /// Time derivatives of the Jacobians for a point whose own DH values move
     /// at `a_rate = ȧ'` and `d_rate = ḋ'`, the robot moving at the `q̇` given to
     /// [`Robot::forward_with_velocity`].
@@ -430,13 +441,7 @@ impl DhPoint {
             pdot += *c * *qd;
         }
         let p = jac.position;
-        // d/dt of the own prismatic column `s z`, with `ṡ = ḋ'/d_i`.
-        let d_full = frames.d[i_own];
-        let s_rate = if d_full.abs() > SPAN_TOLERANCE && (0.0..=1.0).contains(&(self.d / d_full)) {
-            d_rate / d_full
-        } else {
-            0.0
-        };
+        let s_rate = self.slide_rate(frames, d_rate);
         let fraction = self.slide_fraction(robot, frames);
         let own_slide = |z: DVec3, zdot: DVec3| zdot * fraction + z * s_rate;
         let mut out = PointJacobianRates {

@@ -27,19 +27,7 @@ fn lowest(core: Core<'_>, dir: DVec3) -> (f64, DVec3, bool) {
                 (vb, b, true)
             }
         }
-        Core::Rectangle(r) => {
-            let mut p = r.center;
-            let mut unique = true;
-            for k in 0..2 {
-                let c = dir.dot(r.axes[k]);
-                if c.abs() <= tol {
-                    unique = false;
-                } else {
-                    p -= r.axes[k] * (r.half_extents[k] * c.signum());
-                }
-            }
-            (dir.dot(p), p, unique)
-        }
+        Core::Rectangle(r) => lowest_corner(r.center, &r.axes, &r.half_extents, dir, tol),
         Core::Disk(d) => {
             let w = dir - d.normal * dir.dot(d.normal);
             let wl = w.length();
@@ -50,62 +38,77 @@ fn lowest(core: Core<'_>, dir: DVec3) -> (f64, DVec3, bool) {
                 (dir.dot(p), p, true)
             }
         }
-        Core::Polygon(poly) => {
-            let v = poly.vertices();
-            let n = v.len();
-            let vals: Vec<f64> = v.iter().map(|p| dir.dot(*p)).collect();
-            let min = vals.iter().copied().fold(f64::INFINITY, f64::min);
-            let scale = 1.0 + v.iter().map(|p| (*p - v[0]).length()).fold(0.0, f64::max);
-            let ties: Vec<usize> = (0..n).filter(|&k| vals[k] <= min + tol * scale).collect();
-            match ties.as_slice() {
-                [k] => (min, v[*k], true),
-                [i, j] if (j - i == 1) || (*i == 0 && *j == n - 1) => {
-                    (min, 0.5 * (v[*i] + v[*j]), false)
-                }
-                _ if ties.len() == n => {
-                    let c = v.iter().copied().sum::<DVec3>() / n as f64;
-                    let (q, _) = poly.to_local(c);
-                    let p = if poly.contains_local(q) { c } else { v[0] };
-                    (min, p, false)
-                }
-                _ => (min, v[ties[0]], false),
-            }
-        }
-        Core::Box(b) => {
-            let mut p = b.center;
-            let mut unique = true;
-            for k in 0..3 {
-                let c = dir.dot(b.axes[k]);
-                if c.abs() <= tol {
-                    unique = false;
-                } else {
-                    p -= b.axes[k] * (b.half_extents[k] * c.signum());
-                }
-            }
-            (dir.dot(p), p, unique)
-        }
-        Core::Hull(h) => {
-            let pts = h.points();
-            let min = pts
-                .iter()
-                .map(|p| dir.dot(*p))
-                .fold(f64::INFINITY, f64::min);
-            let scale = 1.0
-                + pts
-                    .iter()
-                    .map(|p| (*p - pts[0]).length())
-                    .fold(0.0, f64::max);
-            let ties: Vec<DVec3> = pts
-                .iter()
-                .copied()
-                .filter(|p| dir.dot(*p) <= min + tol * scale)
-                .collect();
-            let c = ties.iter().copied().sum::<DVec3>() / ties.len().max(1) as f64;
-            (min, c, ties.len() == 1)
-        }
+        Core::Polygon(poly) => lowest_of_polygon(poly, dir, tol),
+        Core::Box(b) => lowest_corner(b.center, &b.axes, &b.half_extents.to_array(), dir, tol),
+        Core::Hull(h) => lowest_of_hull(h.points(), dir, tol),
         // Planes are handled by the caller.
         Core::Plane(q) => (-q.offset * dir.dot(q.normal), -q.normal * q.offset, false),
     }
+}
+
+/// The lowest corner of a rectangle or a box (centre, unit axes, half
+/// extents) along `dir`; not unique when an axis is perpendicular to `dir`.
+fn lowest_corner(
+    center: DVec3,
+    axes: &[DVec3],
+    half_extents: &[f64],
+    dir: DVec3,
+    tol: f64,
+) -> (f64, DVec3, bool) {
+    let mut p = center;
+    let mut unique = true;
+    for k in 0..axes.len() {
+        let c = dir.dot(axes[k]);
+        if c.abs() <= tol {
+            unique = false;
+        } else {
+            p -= axes[k] * (half_extents[k] * c.signum());
+        }
+    }
+    (dir.dot(p), p, unique)
+}
+
+/// The lowest point of a planar polygon along `dir`: a vertex, the middle
+/// of an edge, or (the polygon parallel to the plane) its centroid.
+fn lowest_of_polygon(poly: &super::Polygon, dir: DVec3, tol: f64) -> (f64, DVec3, bool) {
+    let v = poly.vertices();
+    let n = v.len();
+    let vals: Vec<f64> = v.iter().map(|p| dir.dot(*p)).collect();
+    let min = vals.iter().copied().fold(f64::INFINITY, f64::min);
+    let scale = 1.0 + v.iter().map(|p| (*p - v[0]).length()).fold(0.0, f64::max);
+    let ties: Vec<usize> = (0..n).filter(|&k| vals[k] <= min + tol * scale).collect();
+    match ties.as_slice() {
+        [k] => (min, v[*k], true),
+        [i, j] if (j - i == 1) || (*i == 0 && *j == n - 1) => (min, 0.5 * (v[*i] + v[*j]), false),
+        _ if ties.len() == n => {
+            let c = v.iter().copied().sum::<DVec3>() / n as f64;
+            let (q, _) = poly.to_local(c);
+            let p = if poly.contains_local(q) { c } else { v[0] };
+            (min, p, false)
+        }
+        _ => (min, v[ties[0]], false),
+    }
+}
+
+/// The lowest point of a convex hull's points along `dir`: the mean of the
+/// points tied for lowest.
+fn lowest_of_hull(pts: &[DVec3], dir: DVec3, tol: f64) -> (f64, DVec3, bool) {
+    let min = pts
+        .iter()
+        .map(|p| dir.dot(*p))
+        .fold(f64::INFINITY, f64::min);
+    let scale = 1.0
+        + pts
+            .iter()
+            .map(|p| (*p - pts[0]).length())
+            .fold(0.0, f64::max);
+    let ties: Vec<DVec3> = pts
+        .iter()
+        .copied()
+        .filter(|p| dir.dot(*p) <= min + tol * scale)
+        .collect();
+    let c = ties.iter().copied().sum::<DVec3>() / ties.len().max(1) as f64;
+    (min, c, ties.len() == 1)
 }
 
 /// A point of a polygon's boundary on the plane, when the polygon straddles

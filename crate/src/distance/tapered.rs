@@ -116,6 +116,57 @@ fn tapered_direct(
     }))
 }
 
+/// The least value of the convex `h` on `[0, 1]` given its values and
+/// slopes at both ends (`h(0)`'s slope negative, `h(1)`'s positive): the
+/// minimum lies where the slope changes sign. The tangents at the two ends
+/// of the bracket bound `h` from below; their crossing is both the next
+/// guess and the certified lower bound. Returns the bound (to `tol`), where
+/// the least value was measured, and its witness pair.
+fn convex_minimum<F>(
+    h: &F,
+    (h0, g0, c0): (f64, f64, Closest),
+    (h1, g1, c1): (f64, f64, Closest),
+    tol: f64,
+) -> Result<(f64, f64, Closest), DistanceError>
+where
+    F: Fn(f64) -> Result<(f64, f64, Closest), DistanceError>,
+{
+    let (mut lo, mut hl, mut gl) = (0.0f64, h0, g0);
+    let (mut hi, mut hh, mut gh) = (1.0f64, h1, g1);
+    let (mut best, mut best_t, mut best_c) = if h0 <= h1 {
+        (h0, 0.0, c0)
+    } else {
+        (h1, 1.0, c1)
+    };
+    let mut bound = f64::NEG_INFINITY;
+    for k in 0..100 {
+        let tx = ((hh - hl) + gl * lo - gh * hi) / (gl - gh);
+        let tx = if tx.is_finite() {
+            tx.clamp(lo, hi)
+        } else {
+            0.5 * (lo + hi)
+        };
+        bound = hl + gl * (tx - lo);
+        if best - bound <= tol || hi - lo <= 1e-16 {
+            break;
+        }
+        let mut t = if k % 4 == 3 { 0.5 * (lo + hi) } else { tx };
+        if !(t > lo && t < hi) {
+            t = 0.5 * (lo + hi);
+        }
+        let (ht, gt, ct) = h(t)?;
+        if ht < best {
+            (best, best_t, best_c) = (ht, t, ct);
+        }
+        if gt < 0.0 {
+            (lo, hl, gl) = (t, ht, gt);
+        } else {
+            (hi, hh, gh) = (t, ht, gt);
+        }
+    }
+    Ok((bound.min(best), best_t, best_c))
+}
+
 /// Tapered capsule (A, radii differ) against any primitive (B).
 pub(crate) fn tapered_vs(
     tc: &TaperedCapsule,
@@ -155,44 +206,8 @@ pub(crate) fn tapered_vs(
     } else if g1 <= 0.0 {
         (h1, 1.0, c1)
     } else {
-        // The minimum lies in [lo, hi] where the slope changes sign. The
-        // tangents at the two ends bound the convex h from below; their
-        // crossing is both the next guess and the certified lower bound.
-        let (mut lo, mut hl, mut gl) = (0.0f64, h0, g0);
-        let (mut hi, mut hh, mut gh) = (1.0f64, h1, g1);
-        let (mut best, mut best_t, mut best_c) = if h0 <= h1 {
-            (h0, 0.0, c0)
-        } else {
-            (h1, 1.0, c1)
-        };
         let tol = 1e-13 * (1.0 + axis.length() + tc.max_radius());
-        let mut bound = f64::NEG_INFINITY;
-        for k in 0..100 {
-            let tx = ((hh - hl) + gl * lo - gh * hi) / (gl - gh);
-            let tx = if tx.is_finite() {
-                tx.clamp(lo, hi)
-            } else {
-                0.5 * (lo + hi)
-            };
-            bound = hl + gl * (tx - lo);
-            if best - bound <= tol || hi - lo <= 1e-16 {
-                break;
-            }
-            let mut t = if k % 4 == 3 { 0.5 * (lo + hi) } else { tx };
-            if !(t > lo && t < hi) {
-                t = 0.5 * (lo + hi);
-            }
-            let (ht, gt, ct) = h(t)?;
-            if ht < best {
-                (best, best_t, best_c) = (ht, t, ct);
-            }
-            if gt < 0.0 {
-                (lo, hl, gl) = (t, ht, gt);
-            } else {
-                (hi, hh, gh) = (t, ht, gt);
-            }
-        }
-        (bound.min(best), best_t, best_c)
+        convex_minimum(&h, (h0, g0, c0), (h1, g1, c1), tol)?
     };
     let rb = match other {
         Primitive::TaperedCapsule(t2) if t2.radius[0] != t2.radius[1] => 0.0,

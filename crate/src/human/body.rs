@@ -207,25 +207,39 @@ fn capsule(name: &'static str, f: &Frame, a: DVec3, b: DVec3, radius: f64) -> Pa
 /// change at `rates` (rad/s).
 #[must_use]
 pub fn pose_body(height: f64, root: &Root, pose: &Pose, rates: &[f64; JOINT_COUNT]) -> Posed {
-    use build::*;
-    use proportion::*;
     let h = height;
     let q = &pose.angles;
-    let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
     let base = Frame {
         r: rotation(DVec3::Z, root.heading),
         o: root.position,
-        w: z * root.heading_rate,
+        w: DVec3::Z * root.heading_rate,
         v: root.velocity,
     };
     let mut parts = Vec::with_capacity(PART_NAMES.len());
     // Pelvis: fixed to the root at hip height.
-    let hips = base.at(z * (HIP_HEIGHT * h));
+    let hips = base.at(DVec3::Z * (proportion::HIP_HEIGHT * h));
+    let trunk = trunk_parts(&mut parts, &hips, q, rates, h);
+    head_parts(&mut parts, &trunk, q, rates, h);
+    limb_parts(&mut parts, (&hips, &trunk), q, rates, h);
+    Posed { parts }
+}
+
+/// The pelvis and the torso; returns the trunk's frame (at the lumbar
+/// joint, after its twist, lateral bend and flexion).
+fn trunk_parts(
+    parts: &mut Vec<Part>,
+    hips: &Frame,
+    q: &[f64; JOINT_COUNT],
+    rates: &[f64; JOINT_COUNT],
+    h: f64,
+) -> Frame {
+    use build::*;
+    let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
     let (pl, pr) = (y * (PELVIS_HALF * h), -y * (PELVIS_HALF * h));
     let lift = z * (0.5 * LUMBAR * h);
     parts.push(capsule(
         "pelvis",
-        &hips,
+        hips,
         pl + lift,
         pr + lift,
         PELVIS_RADIUS * h,
@@ -241,10 +255,30 @@ pub fn pose_body(height: f64, root: &Root, pose: &Pose, rates: &[f64; JOINT_COUN
     let t0 = z * (TORSO_FROM * h);
     let t1 = z * (TORSO_TO * h);
     parts.push(capsule("torso", &trunk, t0, t1, TORSO_RADIUS * h));
-    let shoulder_z = (SHOULDER_HEIGHT - HIP_HEIGHT - LUMBAR) * h;
+    trunk
+}
+
+/// Height of the shoulders above the trunk's frame, for a body of height `h` (m).
+fn shoulder_height(h: f64) -> f64 {
+    use build::*;
+    use proportion::*;
+    (SHOULDER_HEIGHT - HIP_HEIGHT - LUMBAR) * h
+}
+
+/// The neck (twist and flexion on the trunk) and the head.
+fn head_parts(
+    parts: &mut Vec<Part>,
+    trunk: &Frame,
+    q: &[f64; JOINT_COUNT],
+    rates: &[f64; JOINT_COUNT],
+    h: f64,
+) {
+    use build::*;
+    use proportion::*;
+    let (y, z) = (DVec3::Y, DVec3::Z);
     let n = joint::NECK_FLEXION;
     let neck = trunk
-        .at(z * shoulder_z)
+        .at(z * shoulder_height(h))
         .turn(z, q[n + 1], rates[n + 1])
         .turn(y, q[n], rates[n]);
     let neck_top = z * (NECK_LENGTH * h);
@@ -265,7 +299,21 @@ pub fn pose_body(height: f64, root: &Root, pose: &Pose, rates: &[f64; JOINT_COUN
         }),
         velocity: [vc, vc],
     });
-    // Arms and legs: +1 on the left (+y), −1 on the right.
+}
+
+/// Arms on the trunk and legs on the hips: +1 on the left (+y), −1 on the
+/// right.
+fn limb_parts(
+    parts: &mut Vec<Part>,
+    (hips, trunk): (&Frame, &Frame),
+    q: &[f64; JOINT_COUNT],
+    rates: &[f64; JOINT_COUNT],
+    h: f64,
+) {
+    use build::*;
+    use proportion::*;
+    let y = DVec3::Y;
+    let shoulder_z = shoulder_height(h);
     for (side, k, names) in [
         (
             1.0,
@@ -280,7 +328,7 @@ pub fn pose_body(height: f64, root: &Root, pose: &Pose, rates: &[f64; JOINT_COUN
     ] {
         let shoulder = trunk.at(DVec3::new(0.0, side * 0.5 * SHOULDER_WIDTH * h, shoulder_z));
         arm(
-            &mut parts,
+            parts,
             shoulder,
             side,
             &q[k..k + 4],
@@ -298,17 +346,8 @@ pub fn pose_body(height: f64, root: &Root, pose: &Pose, rates: &[f64; JOINT_COUN
         ),
     ] {
         let hip = hips.at(y * (side * HIP_HALF * h));
-        leg(
-            &mut parts,
-            hip,
-            side,
-            &q[k..k + 3],
-            &rates[k..k + 3],
-            h,
-            names,
-        );
+        leg(parts, hip, side, &q[k..k + 3], &rates[k..k + 3], h, names);
     }
-    Posed { parts }
 }
 
 /// An arm from its shoulder frame: flexion about y (forward), abduction

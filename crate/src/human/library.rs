@@ -32,16 +32,7 @@ pub fn clip(
     a: &AnimationSpec,
 ) -> Result<(Vec<Keyframe>, bool), FieldError> {
     let start = finite("start", a.start.unwrap_or(0.0))?;
-    let arm = match a.side.as_deref() {
-        None | Some("right") => joint::RIGHT_ARM,
-        Some("left") => joint::LEFT_ARM,
-        Some(other) => {
-            return Err(FieldError::new(
-                "side",
-                format!("expected \"left\" or \"right\", got \"{other}\""),
-            ));
-        }
-    };
+    let arm = arm_of(a.side.as_deref().unwrap_or("right"))?;
     let speed = match a.speed {
         Some(s) => positive("speed", s)?,
         None if name == "walk" => 1.4,
@@ -65,36 +56,13 @@ pub fn clip(
             return Ok((vec![key(0.0, rest), key(duration.max(0.2), reached)], false));
         }
         "wave" => {
-            let up = |elbow: f64| {
-                let mut p = rest;
-                p.angles[arm..arm + 4].copy_from_slice(&[0.2, 1.45, -1.45, elbow]);
-                p
-            };
-            let times = [0.0, 0.6, 1.0, 1.4, 1.8, 2.2, 2.8];
-            let poses = [rest, up(1.6), up(2.2), up(1.2), up(2.2), up(1.6), rest];
-            return Ok((
-                times.iter().zip(poses).map(|(t, p)| key(*t, p)).collect(),
-                true,
-            ));
+            let keys = wave(&rest, arm).into_iter().map(|(t, p)| key(t, p));
+            return Ok((keys.collect(), true));
         }
         "walk" => walk(&rest, speed, human.height),
         "bend" => {
-            let mut low = rest;
-            low.angles[joint::SPINE_FLEXION] = 0.9;
-            low.angles[joint::NECK_FLEXION] = -0.4;
-            for k in [joint::LEFT_ARM, joint::RIGHT_ARM] {
-                low.angles[k..k + 4].copy_from_slice(&[1.0, 0.15, 0.0, 0.5]);
-            }
-            for k in [joint::LEFT_LEG, joint::RIGHT_LEG] {
-                low.angles[k..k + 3].copy_from_slice(&[0.25, 0.0, 0.15]);
-            }
-            return Ok((
-                [(0.0, rest), (1.2, low), (3.2, low), (4.4, rest)]
-                    .into_iter()
-                    .map(|(t, p)| key(t, p))
-                    .collect(),
-                false,
-            ));
+            let keys = bend(&rest).into_iter().map(|(t, p)| key(t, p));
+            return Ok((keys.collect(), false));
         }
         "stepBack" => {
             let mut lift = rest;
@@ -116,6 +84,34 @@ pub fn clip(
         }
     };
     Ok((keys.into_iter().map(|(t, p)| key(t, p)).collect(), true))
+}
+
+/// A wave of `arm` from the rest pose: the hand raised, the forearm
+/// swinging at the elbow, back to rest (times in s).
+fn wave(rest: &Pose, arm: usize) -> Vec<(f64, Pose)> {
+    let up = |elbow: f64| {
+        let mut p = *rest;
+        p.angles[arm..arm + 4].copy_from_slice(&[0.2, 1.45, -1.45, elbow]);
+        p
+    };
+    let times = [0.0, 0.6, 1.0, 1.4, 1.8, 2.2, 2.8];
+    let poses = [*rest, up(1.6), up(2.2), up(1.2), up(2.2), up(1.6), *rest];
+    times.into_iter().zip(poses).collect()
+}
+
+/// Bending over and back up: the spine flexed, the arms hanging forward,
+/// the knees bent (times in s).
+fn bend(rest: &Pose) -> Vec<(f64, Pose)> {
+    let mut low = *rest;
+    low.angles[joint::SPINE_FLEXION] = 0.9;
+    low.angles[joint::NECK_FLEXION] = -0.4;
+    for k in [joint::LEFT_ARM, joint::RIGHT_ARM] {
+        low.angles[k..k + 4].copy_from_slice(&[1.0, 0.15, 0.0, 0.5]);
+    }
+    for k in [joint::LEFT_LEG, joint::RIGHT_LEG] {
+        low.angles[k..k + 3].copy_from_slice(&[0.25, 0.0, 0.15]);
+    }
+    vec![(0.0, *rest), (1.2, low), (3.2, low), (4.4, *rest)]
 }
 
 /// One gait cycle: legs swing ±A, arms swing opposite, the swing knee

@@ -70,6 +70,55 @@ pub struct Robot {
     pub exclude: Vec<(usize, usize)>,
 }
 
+/// Validates branch `b` of a spec, appends its joints to `joints` (after
+/// those of the earlier chains) and returns its chain.
+fn add_branch(
+    joints: &mut Vec<Joint>,
+    b: usize,
+    branch: &spec::BranchSpec,
+) -> Result<Chain, FieldError> {
+    let field = format!("branches[{b}]");
+    if branch.joints.is_empty() {
+        return Err(FieldError::new(
+            format!("{field}.joints"),
+            "the DH table is empty",
+        ));
+    }
+    if branch.parent > joints.len() {
+        return Err(FieldError::new(
+            format!("{field}.parent"),
+            format!(
+                "{} is not a frame of an earlier chain (0..={})",
+                branch.parent,
+                joints.len()
+            ),
+        ));
+    }
+    let mount = spec::rotation(&format!("{field}.mount"), branch.mount)?;
+    let tool = match &branch.tool {
+        Some(p) => spec::pose(&format!("{field}.tool"), p)?,
+        None => DAffine3::IDENTITY,
+    };
+    let first = joints.len() + 1;
+    for (i, j) in branch.joints.iter().enumerate() {
+        let parent = if i == 0 { branch.parent } else { joints.len() };
+        let mut joint = spec::joint(&format!("{field}.joints[{i}]"), j, parent)?;
+        if i == 0 && mount != DQuat::IDENTITY {
+            joint.mount = Some(mount);
+        }
+        joints.push(joint);
+    }
+    Ok(Chain {
+        name: branch
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("branch {}", b + 1)),
+        first,
+        last: joints.len(),
+        tool,
+    })
+}
+
 impl Robot {
     /// Validates `spec` into a robot.
     ///
@@ -102,46 +151,7 @@ impl Robot {
             tool,
         }];
         for (b, branch) in spec.branches.iter().enumerate() {
-            let field = format!("branches[{b}]");
-            if branch.joints.is_empty() {
-                return Err(FieldError::new(
-                    format!("{field}.joints"),
-                    "the DH table is empty",
-                ));
-            }
-            if branch.parent > joints.len() {
-                return Err(FieldError::new(
-                    format!("{field}.parent"),
-                    format!(
-                        "{} is not a frame of an earlier chain (0..={})",
-                        branch.parent,
-                        joints.len()
-                    ),
-                ));
-            }
-            let mount = spec::rotation(&format!("{field}.mount"), branch.mount)?;
-            let tool = match &branch.tool {
-                Some(p) => spec::pose(&format!("{field}.tool"), p)?,
-                None => DAffine3::IDENTITY,
-            };
-            let first = joints.len() + 1;
-            for (i, j) in branch.joints.iter().enumerate() {
-                let parent = if i == 0 { branch.parent } else { joints.len() };
-                let mut joint = spec::joint(&format!("{field}.joints[{i}]"), j, parent)?;
-                if i == 0 && mount != DQuat::IDENTITY {
-                    joint.mount = Some(mount);
-                }
-                joints.push(joint);
-            }
-            chains.push(Chain {
-                name: branch
-                    .name
-                    .clone()
-                    .unwrap_or_else(|| format!("branch {}", b + 1)),
-                first,
-                last: joints.len(),
-                tool,
-            });
+            chains.push(add_branch(&mut joints, b, branch)?);
         }
         if let Some(names) = &spec.joint_names {
             check_joint_names(names, joints.len())?;
