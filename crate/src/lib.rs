@@ -14,11 +14,11 @@
 //!
 //! | module | what it holds | paper |
 //! |---|---|---|
-//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, URDF import, forward kinematics, end-effector IK (6-D CLIK) | §II, §III |
+//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, the DH table from joint axes (for the URDF reader), forward kinematics, end-effector IK (6-D CLIK) | §II, §III |
 //! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
 //! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives; first- and second-order CLIK of a moving point (`clik`) | §III-A, eq. 2–4 |
 //! | [`transition`] | a control point travelling along the skeleton through the nodes, one quintic per DH value (C2) | §III-B, fig. 5 |
-//! | [`avoidance`] | control-point selection, repulsion, velocity / torque / second-order CLIK controllers with task priority and joint weights, the protective layer (guards solved as a small QP) and the jerk-limited joint limiter | §II, §III-A |
+//! | [`avoidance`] | control-point selection, repulsion, velocity / torque / second-order CLIK controllers with task priority and joint weights, the constraints that bring their own QP rows (`rows`: limits and tasks), the QP and its assembler, the protective layer and the jerk-limited joint limiter | §II, §III-A |
 //! | [`dependability`] | sensing models, first-order uncertainty propagation, switch probability, chattering (stop or lock, every selection mode), time to collision, events | §IV |
 //! | [`human`] | the interacting human: an articulated body of capsules sized by anthropometric proportions, posed by joint angles, keyframes or a motion library, with every part's velocity | §II |
 //! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples | — |
@@ -28,6 +28,12 @@
 //! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
 //! | [`distance`] | primitives (`primitive/`: one file per group of figures, `spec.rs` for the JS description), closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
 //! | [`parsers`] | readers of files: URDF and SRDF, meshes (STL, OBJ, COLLADA, glTF), keypoint tracks (JSON, CSV) and BVH motion capture | — |
+//! | [`mesh`] | the triangle mesh (`TriMesh`): scale and origin, bounds, enclosed volume, area, simplification for drawing | — |
+//! | [`fitting`] | skeleton volumes fitted to collision meshes, their coverage and excess; a URDF with its mesh files | — |
+//! | [`reach`] | reach problems (NEO's PR2 scenes, seeded Panda problems) judged by one evaluator, for the reach benchmark | — |
+//! | [`rng`] | a seeded generator (xoshiro256**), the same bits on every target | — |
+//! | [`workloads`] | fixed workloads shared by the native and the wasm benchmarks | — |
+//! | [`error`] | `FieldError` (a JSON-like path and a reason) and the shared validators | — |
 //! | [`view`] | what the viewer shows as plain data: the scene built from a world's state, framing (reach, planar robots), the camera, the viewer's state apart from the GPU | — |
 //! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
 //! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground: uploads a [`view::Scene`] and draws it, nothing else | — |

@@ -164,3 +164,76 @@ fn readme_architecture_table_matches_lib_modules() {
         "lib.rs modules vs README's architecture table"
     );
 }
+
+/// The modules `lib.rs`'s own table names (`` //! | [`x`] | `` or
+/// `` //! | `x` (…) | ``).
+fn lib_table_modules() -> Vec<String> {
+    LIB.lines()
+        .filter_map(|l| {
+            let cell = l.strip_prefix("//! | ")?.split(" |").next()?;
+            let name = cell
+                .trim_start_matches('[')
+                .strip_prefix('`')?
+                .split('`')
+                .next()?;
+            Some(name.to_owned())
+        })
+        .collect()
+}
+
+#[test]
+fn lib_table_names_every_module() {
+    let mut declared = declared_modules();
+    let mut described = lib_table_modules();
+    declared.sort();
+    described.sort();
+    assert_eq!(declared, described, "lib.rs modules vs its own table");
+}
+
+/// Natively: every file and folder directly inside a module's folder
+/// (`crate/src/<module>/`) is named in that module's row of README's
+/// architecture table (`step.rs`, `rows/`), so the map shows every part.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn readme_rows_name_every_file_of_their_module() {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let section = README
+        .split("\n## Architecture")
+        .nth(1)
+        .and_then(|s| s.split("\n## ").next())
+        .expect("README has an Architecture section");
+    let mut missing = Vec::new();
+    for line in section.lines() {
+        let Some(name) = line
+            .strip_prefix("| `")
+            .and_then(|l| l.split('`').next())
+            .and_then(|c| c.strip_suffix('/'))
+        else {
+            continue;
+        };
+        let row = line.split_once(" | ").map_or("", |(_, rest)| rest);
+        let mut entries: Vec<_> = std::fs::read_dir(src.join(name))
+            .expect("the module's folder")
+            .map(|e| e.expect("an entry"))
+            .collect();
+        entries.sort_by_key(std::fs::DirEntry::file_name);
+        for entry in entries {
+            let file = entry.file_name().to_string_lossy().into_owned();
+            let shown = if entry.path().is_dir() {
+                format!("{file}/")
+            } else {
+                file.clone()
+            };
+            if file == "mod.rs" || file == "tests.rs" || file == "tests" {
+                continue;
+            }
+            if !row.contains(&format!("`{shown}")) && !row.contains(&format!("{shown}`")) {
+                missing.push(format!("{name}/{shown}"));
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "README's architecture rows do not name: {missing:?}"
+    );
+}
