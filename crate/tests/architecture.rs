@@ -133,14 +133,19 @@ fn declared_modules() -> Vec<String> {
         .collect()
 }
 
-/// The modules README's architecture table names (`` | `x.rs` | `` or
-/// `` | `x/` | ``), in the section "Architecture".
-fn readme_modules() -> Vec<String> {
-    let section = README
+/// README's section "Architecture".
+fn architecture_section() -> &'static str {
+    README
         .split("\n## Architecture")
         .nth(1)
         .and_then(|s| s.split("\n## ").next())
-        .expect("README has an Architecture section");
+        .expect("README has an Architecture section")
+}
+
+/// The modules README's architecture table names (`` | `x.rs` | `` or
+/// `` | `x/` | ``), in the section "Architecture".
+fn readme_modules() -> Vec<String> {
+    let section = architecture_section();
     section
         .lines()
         .filter_map(|l| {
@@ -197,11 +202,7 @@ fn lib_table_names_every_module() {
 #[test]
 fn readme_rows_name_every_file_of_their_module() {
     let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let section = README
-        .split("\n## Architecture")
-        .nth(1)
-        .and_then(|s| s.split("\n## ").next())
-        .expect("README has an Architecture section");
+    let section = architecture_section();
     let mut missing = Vec::new();
     for line in section.lines() {
         let Some(name) = line
