@@ -41,20 +41,23 @@ impl World {
     /// An obstacle's approach speed is that of its part's material point at
     /// the witness (a human's hand moving with its arm, not the body).
     fn guard_pairs(&mut self, cfg: &ControllerConfig, pairs: &[PairDistance]) {
-        let mut out = std::mem::take(&mut self.guard_pairs);
+        let mut out = std::mem::take(&mut self.data.guard.pairs);
         out.clear();
         for p in pairs {
             let (distance, obstacle, other, speed, part) = match p.target {
                 Target::Obstacle { id, .. } => {
-                    let o = self.owners[id as usize];
+                    let o = self.state.sensed.owners[id as usize];
                     let motion = self
+                        .state
+                        .sensed
                         .part_motion
                         .get(id as usize)
                         .copied()
                         .unwrap_or_default();
                     self.end_pairs(cfg, p, id as usize, o, &motion, &mut out);
                     // The part's own margin (its own σ with `partSigma`).
-                    let margin = self.obstacles[o].part_margin(self.part_index[id as usize]);
+                    let margin = self.state.sensed.obstacles[o]
+                        .part_margin(self.state.sensed.part_index[id as usize]);
                     (
                         p.distance - margin,
                         Some(o),
@@ -64,7 +67,7 @@ impl World {
                     )
                 }
                 Target::Segment(other) => {
-                    let u = fraction_on(&self.skeleton, other, p.point_other);
+                    let u = fraction_on(&self.data.skeleton, other, p.point_other);
                     (p.distance, None, Some((other, u)), 0.0, None)
                 }
             };
@@ -82,7 +85,7 @@ impl World {
                 part,
             });
         }
-        self.guard_pairs = out;
+        self.data.guard.pairs = out;
     }
 
     /// The `startContact` event: the deepest of the pairs that overlap in
@@ -95,19 +98,25 @@ impl World {
         else {
             return;
         };
-        let link = self.skeleton.segments[deepest.segment].link;
+        let link = self.data.skeleton.segments[deepest.segment].link;
         let obstacle = match deepest.target {
-            Target::Obstacle { id, .. } => self.obstacles[self.owners[id as usize]].spec.id.clone(),
+            Target::Obstacle { id, .. } => self.state.sensed.obstacles
+                [self.state.sensed.owners[id as usize]]
+                .spec
+                .id
+                .clone(),
             Target::Segment(other) => {
                 format!(
                     "self:{}",
-                    self.robot.link_label(self.skeleton.segments[other].link)
+                    self.model
+                        .robot
+                        .link_label(self.data.skeleton.segments[other].link)
                 )
             }
         };
         self.push(EventKind::StartContact {
             obstacle,
-            link: self.robot.link_label(link),
+            link: self.model.robot.link_label(link),
             distance: deepest.distance,
             pairs: overlapping.count(),
         });
@@ -125,7 +134,14 @@ impl World {
         motion: &super::obstacles::PartMotion,
         out: &mut Vec<GuardPair>,
     ) {
-        let Some(shape) = self.scene.obstacles().get(part).map(|x| &x.shape) else {
+        let Some(shape) = self
+            .state
+            .sensed
+            .scene
+            .obstacles()
+            .get(part)
+            .map(|x| &x.shape)
+        else {
             return;
         };
         // Against a point or a sphere the clearance along a segment has one
@@ -133,8 +149,8 @@ impl World {
         if matches!(shape, Primitive::Point(_) | Primitive::Sphere(_)) {
             return;
         }
-        let seg = &self.skeleton.segments[p.segment];
-        let (a, b) = self.skeleton.endpoints(seg);
+        let seg = &self.data.skeleton.segments[p.segment];
+        let (a, b) = self.data.skeleton.endpoints(seg);
         for (t, end) in [(0.0, a), (1.0, b)] {
             if (p.fraction - t).abs() < 0.05 {
                 continue;
@@ -142,7 +158,8 @@ impl World {
             let Ok(d) = distance(&Primitive::Point(end), shape) else {
                 continue;
             };
-            let margin = self.obstacles[o].part_margin(self.part_index[part]);
+            let margin =
+                self.state.sensed.obstacles[o].part_margin(self.state.sensed.part_index[part]);
             let clearance = d.distance - Skeleton::radius_at(seg, t) - margin;
             if cfg.beyond_influence(clearance) || d.distance <= 0.0 {
                 continue;
@@ -164,38 +181,44 @@ impl World {
     /// bounds, dampers, the time-to-collision slowdown, and the escape from
     /// obstacles that close in faster than the arm could stop
     /// ([`protect::prepare`]). An obstacle with no admissible escape is
-    /// remembered in `self.doomed`.
+    /// remembered in `self.data.guard.doomed`.
     pub(super) fn prepare_guards(
         &mut self,
         cfg: &ControllerConfig,
         pairs: &[PairDistance],
         dt: f64,
     ) -> Result<(), FieldError> {
-        self.doomed = None;
-        self.stop_time = f64::INFINITY;
+        self.data.guard.doomed = None;
+        self.data.guard.stop_time = f64::INFINITY;
         if !cfg.protective.enabled {
-            self.guards.clear();
+            self.data.guard.guards.clear();
             return Ok(());
         }
         self.guard_pairs(cfg, pairs);
-        self.stop_time = protect::stop_time(&self.guard_pairs, cfg, self.stopped, dt);
-        let mut guards = std::mem::take(&mut self.guards);
+        self.data.guard.stop_time =
+            protect::stop_time(&self.data.guard.pairs, cfg, self.state.stop.stopped, dt);
+        let mut guards = std::mem::take(&mut self.data.guard.guards);
         let ctx = self.guard_context(cfg, dt);
-        self.doomed = protect::prepare(&ctx, &self.guard_pairs, &self.slowdown, &mut guards)?;
-        self.guards = guards;
+        self.data.guard.doomed = protect::prepare(
+            &ctx,
+            &self.data.guard.pairs,
+            &self.data.slowdown,
+            &mut guards,
+        )?;
+        self.data.guard.guards = guards;
         Ok(())
     }
 
     /// What the guards are computed from, now.
     fn guard_context<'a>(&'a self, cfg: &'a ControllerConfig, dt: f64) -> GuardContext<'a> {
         GuardContext {
-            robot: &self.robot,
-            frames: &self.frames,
-            skeleton: &self.skeleton,
-            q: &self.q,
-            motion: &self.motion,
-            stopped: self.stopped,
-            stop_time: self.stop_time,
+            robot: &self.model.robot,
+            frames: &self.data.frames,
+            skeleton: &self.data.skeleton,
+            q: &self.state.q,
+            motion: &self.state.motion,
+            stopped: self.state.stop.stopped,
+            stop_time: self.data.guard.stop_time,
             dt,
             config: cfg,
         }
@@ -211,22 +234,28 @@ impl World {
         if !cfg.protective.enabled {
             return true;
         }
-        let guards = std::mem::take(&mut self.guards);
-        let mut request = std::mem::take(&mut self.request);
+        let guards = std::mem::take(&mut self.data.guard.guards);
+        let mut request = std::mem::take(&mut self.data.request);
         let ctx = self.guard_context(cfg, dt);
-        let outcome = protect::protect(&ctx, &self.guard_pairs, &guards, self.doomed, &mut request);
-        self.request = request;
-        self.braking = outcome.braking;
+        let outcome = protect::protect(
+            &ctx,
+            &self.data.guard.pairs,
+            &guards,
+            self.data.guard.doomed,
+            &mut request,
+        );
+        self.data.request = request;
+        self.state.stop.braking = outcome.braking;
         let braking = outcome.braking_time;
         let mut now = BTreeSet::new();
-        if let Some((k, excess)) = outcome.doomed.filter(|_| !self.stopped) {
+        if let Some((k, excess)) = outcome.doomed.filter(|_| !self.state.stop.stopped) {
             let g = &guards[k];
             let key = g.obstacle.unwrap_or(usize::MAX);
             now.insert(key);
-            if !self.unavoidable.contains(&key) {
+            if !self.state.stop.unavoidable.contains(&key) {
                 let obstacle = g.obstacle.map_or_else(
-                    || format!("self:{}", self.skeleton.segments[g.segment].link),
-                    |o| self.obstacles[o].spec.id.clone(),
+                    || format!("self:{}", self.data.skeleton.segments[g.segment].link),
+                    |o| self.state.sensed.obstacles[o].spec.id.clone(),
                 );
                 self.push(EventKind::Unavoidable {
                     obstacle: obstacle.clone(),
@@ -241,11 +270,11 @@ impl World {
                     format!("unavoidable approach ({obstacle})"),
                     braking,
                 );
-                self.request.iter_mut().for_each(|v| *v = 0.0);
+                self.data.request.iter_mut().for_each(|v| *v = 0.0);
             }
         }
-        self.unavoidable = now;
-        self.guards = guards;
+        self.state.stop.unavoidable = now;
+        self.data.guard.guards = guards;
         outcome.all_hold
     }
 }

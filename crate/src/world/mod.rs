@@ -28,12 +28,10 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use glam::DVec3;
-
+use crate::avoidance::ControllerConfig;
 use crate::avoidance::limits::JointMotion;
-use crate::avoidance::protect::{Guard, GuardPair};
+use crate::avoidance::protect::Guard;
 use crate::avoidance::selection::Key;
-use crate::avoidance::{ActivePoint, ControllerConfig, TaskReference};
 use crate::dependability::{Event, EventKind};
 use crate::distance::{Primitive, PrimitiveSpec, Scene};
 use crate::error::FieldError;
@@ -46,6 +44,7 @@ mod edit;
 mod guard;
 mod monitor;
 mod obstacles;
+mod parts;
 mod probe;
 mod readout;
 mod start;
@@ -53,16 +52,16 @@ mod start;
 pub use start::import_urdf;
 mod state;
 mod step;
-mod track;
+mod tracker;
 mod uncertainty;
 
 use obstacles::ObstacleState;
+use parts::{EventLog, GuardData, Model, Propagation, Readout, Sensed, State, StepData, StopState};
 pub use probe::{GuardedPair, StepProbe};
 pub use state::{
     ClosestHuman, ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick,
     SkeletonState, Uncertainty, WorldState,
 };
-use track::Tracker;
 pub use uncertainty::Risk;
 
 /// Events a live [`World`] keeps (the oldest half is dropped beyond this;
@@ -81,74 +80,14 @@ enum StopReason {
     Unavoidable,
 }
 
-/// A simulation that steps on demand and accepts edits.
+/// A simulation that steps on demand and accepts edits: the model, the
+/// state, the last step's data and the event log ([`parts`]).
 #[derive(Clone, Debug)]
 pub struct World {
-    scenario: Scenario,
-    robot: Robot,
-    adjacency: Vec<Vec<bool>>,
-    q: Vec<f64>,
-    motion: JointMotion,
-    t: f64,
-    frames: Frames,
-    skeleton: Skeleton,
-    obstacles: Vec<ObstacleState>,
-    scene: Scene,
-    owners: Vec<usize>,
-    /// Obstacle `o`'s parts are scene parts `part_start[o]..part_start[o + 1]`.
-    part_start: Vec<usize>,
-    /// Per scene part: its index among its obstacle's parts, and its motion.
-    part_index: Vec<usize>,
-    part_motion: Vec<obstacles::PartMotion>,
-    scene_dirty: bool,
-    trackers: BTreeMap<Key, Tracker>,
-    risky: BTreeSet<usize>,
-    anchors: Vec<(DVec3, Option<glam::DQuat>)>,
-    references: Vec<TaskReference>,
-    guards: Vec<Guard>,
-    guard_pairs: Vec<GuardPair>,
-    request: Vec<f64>,
-    /// This step's first guard with no admissible escape, and by how much
-    /// the arm's approach exceeds its bound.
-    doomed: Option<(usize, f64)>,
-    /// Time within which the joints must be able to stop this step (s; `∞`
-    /// with no obstacle closing in): see [`guard`]'s `stop_time`.
-    stop_time: f64,
-    /// Whether the `constraints` avoidance dropped its dampers this step.
-    relaxed: bool,
-    qp: crate::avoidance::qp::Workspace,
-    command_monitor: monitor::CommandMonitor,
-    braking: bool,
-    stopped: bool,
-    stop_reason: Option<StopReason>,
-    stopped_until: f64,
-    unavoidable: BTreeSet<usize>,
-    events: Vec<Event>,
-    events_dropped: usize,
-    keep_all_events: bool,
-    points: Vec<ControlPointState>,
-    min_clearance: Option<f64>,
-    /// The human part (`id:part`) of the pair at `min_clearance`, if a
-    /// human's.
-    closest_part: Option<String>,
-    /// The human part (`id:part`) nearest the arm and its clearance (m),
-    /// whatever pair is closest overall.
-    closest_human: Option<(String, f64)>,
-    time_to_collision: Option<f64>,
-    /// Per obstacle, the factor on the arm's allowed approach speed when a
-    /// transition plus braking would not end before contact (1: none).
-    slowdown: Vec<f64>,
-    /// The last step's active points and, for the control points that
-    /// answer an obstacle sensed with error, what their propagation needs
-    /// (computed when the state is read: [`World::propagation`]).
-    active: Vec<ActivePoint>,
-    sigma_inputs: Vec<uncertainty::SigmaInput>,
-    step_t: f64,
-    step_qdot: Vec<f64>,
-    step_dt: f64,
-    step_q: Vec<f64>,
-    /// Counts equal steps so that `t` is `k·dt` without rounding drift.
-    clock: clock::Clock,
+    model: Model,
+    state: State,
+    data: StepData,
+    log: EventLog,
 }
 
 fn err(e: FieldError) -> ScenarioError {
@@ -198,56 +137,46 @@ impl World {
         let anchors = scenario.task.anchors(&robot, &frames);
         let n = robot.dof();
         let mut w = Self {
-            scenario,
-            robot,
-            adjacency,
-            q,
-            motion: JointMotion::rest(n),
-            t: 0.0,
-            frames,
-            skeleton,
-            obstacles,
-            scene: Scene::default(),
-            owners: Vec::new(),
-            part_start: Vec::new(),
-            part_index: Vec::new(),
-            part_motion: Vec::new(),
-            scene_dirty: true,
-            trackers: BTreeMap::new(),
-            risky: BTreeSet::new(),
-            anchors,
-            references: Vec::new(),
-            guards: Vec::new(),
-            guard_pairs: Vec::new(),
-            request: Vec::new(),
-            doomed: None,
-            stop_time: f64::INFINITY,
-            relaxed: false,
-            qp: crate::avoidance::qp::Workspace::default(),
-            command_monitor: monitor::CommandMonitor::default(),
-            braking: false,
-            stopped: false,
-            stop_reason: None,
-            stopped_until: 0.0,
-            unavoidable: BTreeSet::new(),
-            events: Vec::new(),
-            events_dropped: 0,
-            keep_all_events: false,
-            points: Vec::new(),
-            min_clearance: None,
-            closest_part: None,
-            closest_human: None,
-            time_to_collision: None,
-            slowdown: Vec::new(),
-            active: Vec::new(),
-            sigma_inputs: Vec::new(),
-            step_t: 0.0,
-            step_qdot: Vec::new(),
-            step_dt: 0.0,
-            step_q: Vec::new(),
-            clock: clock::Clock::default(),
+            model: Model {
+                scenario,
+                robot,
+                adjacency,
+            },
+            state: State {
+                q,
+                motion: JointMotion::rest(n),
+                t: 0.0,
+                clock: clock::Clock::default(),
+                anchors,
+                sensed: Sensed {
+                    obstacles,
+                    scene: Scene::default(),
+                    owners: Vec::new(),
+                    part_start: Vec::new(),
+                    part_index: Vec::new(),
+                    part_motion: Vec::new(),
+                    dirty: true,
+                },
+                trackers: BTreeMap::new(),
+                risky: BTreeSet::new(),
+                stop: StopState::default(),
+            },
+            data: StepData {
+                frames,
+                skeleton,
+                references: Vec::new(),
+                slowdown: Vec::new(),
+                request: Vec::new(),
+                guard: GuardData {
+                    stop_time: f64::INFINITY,
+                    ..GuardData::default()
+                },
+                readout: Readout::default(),
+                propagation: Propagation::default(),
+            },
+            log: EventLog::default(),
         };
-        let dt = w.scenario.dt;
+        let dt = w.model.scenario.dt;
         w.rebuild_scene(0.0, false, dt);
         Ok(w)
     }
@@ -255,51 +184,51 @@ impl World {
     /// The scenario as edited so far.
     #[must_use]
     pub fn scenario(&self) -> &Scenario {
-        &self.scenario
+        &self.model.scenario
     }
 
     /// The robot.
     #[must_use]
     pub fn robot(&self) -> &Robot {
-        &self.robot
+        &self.model.robot
     }
 
     /// Simulation time (s).
     #[must_use]
     pub fn time(&self) -> f64 {
-        self.t
+        self.state.t
     }
 
     /// Joint values.
     #[must_use]
     pub fn q(&self) -> &[f64] {
-        &self.q
+        &self.state.q
     }
 
     /// The frames at the current `q`.
     #[must_use]
     pub fn frames(&self) -> &Frames {
-        &self.frames
+        &self.data.frames
     }
 
     /// The skeleton at the current `q`.
     #[must_use]
     pub fn skeleton(&self) -> &Skeleton {
-        &self.skeleton
+        &self.data.skeleton
     }
 
     /// The active control points of the last step.
     #[must_use]
     pub fn control_points(&self) -> &[ControlPointState] {
-        &self.points
+        &self.data.readout.points
     }
 
     /// The obstacles' primitives at their true pose now, with their ids.
     #[must_use]
     pub fn obstacle_primitives(&self) -> Vec<(String, Primitive)> {
         let mut out = Vec::new();
-        for o in &self.obstacles {
-            let off = o.offset(self.t);
+        for o in &self.state.sensed.obstacles {
+            let off = o.offset(self.state.t);
             for p in &o.parts {
                 out.push((o.spec.id.clone(), p.translated(off)));
             }
@@ -310,43 +239,43 @@ impl World {
     /// The events kept (every event so far, up to [`MAX_EVENTS`]).
     #[must_use]
     pub fn events(&self) -> &[Event] {
-        &self.events
+        &self.log.events
     }
 
     /// Number of events since the start (or the last reset), including
     /// those no longer kept: the cursor for [`World::state_since`].
     #[must_use]
     pub fn event_count(&self) -> usize {
-        self.events_dropped + self.events.len()
+        self.log.dropped + self.log.events.len()
     }
 
     /// Whether the monitor is stopping the robot (or holding it stopped).
     #[must_use]
     pub fn is_stopped(&self) -> bool {
-        self.stopped
+        self.state.stop.stopped
     }
 
     /// The protective layer's guards of the last step.
     #[must_use]
     pub fn guards(&self) -> &[Guard] {
-        &self.guards
+        &self.data.guard.guards
     }
 
     /// Joint velocities and accelerations.
     #[must_use]
     pub fn motion(&self) -> &JointMotion {
-        &self.motion
+        &self.state.motion
     }
 
     pub(super) fn push(&mut self, kind: EventKind) {
-        self.events.push(Event { t: self.t, kind });
+        self.log.push(self.state.t, kind);
     }
 
     pub(super) fn name(&self, key: &Key) -> String {
         match key {
-            Key::Obstacle(o) | Key::Pair(o, _) => self.obstacles[*o].spec.id.clone(),
+            Key::Obstacle(o) | Key::Pair(o, _) => self.state.sensed.obstacles[*o].spec.id.clone(),
             Key::Pinned(k) => format!("pinned:{k}"),
-            Key::SelfPair(_, other) => format!("self:{}", self.skeleton.segments[*other].link),
+            Key::SelfPair(_, other) => format!("self:{}", self.data.skeleton.segments[*other].link),
         }
     }
 }
@@ -478,7 +407,7 @@ fn fixed_link_pairs(robot: &Robot) -> Vec<(usize, usize)> {
 /// ```
 pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
     let mut world = World::new(scenario.clone())?;
-    world.keep_all_events = true;
+    world.log.keep_all = true;
     let steps = (scenario.duration / scenario.dt).round() as u64;
     let every = scenario.sample_every.max(1) as u64;
     let mut samples = Vec::new();
@@ -501,12 +430,12 @@ pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
     // The sample at `t = duration`: one more control step evaluates the
     // state there (clearances, control points); only its sample is kept,
     // not its motion or its events.
-    let events = world.events.len();
+    let events = world.log.events.len();
     samples.push(take(&mut world));
-    world.events.truncate(events);
+    world.log.events.truncate(events);
     Ok(Trace {
         samples,
-        events: world.events,
+        events: world.log.events,
     })
 }
 

@@ -41,9 +41,9 @@ impl World {
             1.0
         };
         if let Some(o) = owner.filter(|_| too_slow) {
-            self.slowdown[o] = self.slowdown[o].min(slowdown);
+            self.data.slowdown[o] = self.data.slowdown[o].min(slowdown);
         }
-        if let Some(trm) = self.trackers.get_mut(key) {
+        if let Some(trm) = self.state.trackers.get_mut(key) {
             trm.closing = a.closing;
             trm.too_slow = too_slow;
         }
@@ -93,10 +93,15 @@ impl World {
         here: (DhPoint, DVec3, f64),
     ) -> Result<(DhPoint, DVec3, f64), FieldError> {
         let Some(at) = at else { return Ok(here) };
-        let dh =
-            DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, at.segment, at.t)?;
-        let radius = Skeleton::radius_at(&self.skeleton.segments[at.segment], at.t);
-        let position = dh.position(&self.robot, &self.frames);
+        let dh = DhPoint::from_skeleton(
+            &self.model.robot,
+            &self.data.frames,
+            &self.data.skeleton,
+            at.segment,
+            at.t,
+        )?;
+        let radius = Skeleton::radius_at(&self.data.skeleton.segments[at.segment], at.t);
+        let position = dh.position(&self.model.robot, &self.data.frames);
         let (d, normal, _, owner) = self.locate(key, owner, position, radius)?;
         let margin = owner.map_or(0.0, |o| self.margin_near(o, position));
         Ok((dh, normal, d - margin))
@@ -116,24 +121,29 @@ impl World {
         owner: Option<usize>,
         normal: DVec3,
     ) -> Option<f64> {
-        let qdot = &self.motion.qdot;
+        let qdot = &self.state.motion.qdot;
         let velocity = |p: &DhPoint| -> DVec3 {
-            let j = p.jacobians(&self.robot, &self.frames);
+            let j = p.jacobians(&self.model.robot, &self.data.frames);
             j.j_theta.iter().zip(qdot).map(|(c, v)| *c * *v).sum()
         };
         let arm = normal.dot(velocity(dh));
         match (key, owner) {
             (Key::SelfPair(_, other), _) => {
-                let position = dh.position(&self.robot, &self.frames);
-                let u = fraction_on(&self.skeleton, *other, position);
-                let o =
-                    DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, *other, u)
-                        .ok()?;
+                let position = dh.position(&self.model.robot, &self.data.frames);
+                let u = fraction_on(&self.data.skeleton, *other, position);
+                let o = DhPoint::from_skeleton(
+                    &self.model.robot,
+                    &self.data.frames,
+                    &self.data.skeleton,
+                    *other,
+                    u,
+                )
+                .ok()?;
                 Some(arm - normal.dot(velocity(&o)))
             }
             (_, Some(o)) => {
                 // The approaching part's own velocity (a hand, not the body).
-                let position = dh.position(&self.robot, &self.frames);
+                let position = dh.position(&self.model.robot, &self.data.frames);
                 Some(arm - normal.dot(self.approach_velocity(o, position)))
             }
             (_, None) => None,
@@ -193,24 +203,31 @@ impl World {
     /// `chattering` event naming the joint (`command:<joint>`) and a stop,
     /// whatever the policy (a command cannot be locked).
     pub(super) fn monitor_command(&mut self) {
-        let dep = self.scenario.dependability;
+        let dep = self.model.scenario.dependability;
         let window = 8.0 * dep.switch_window;
-        let n = self.motion.qdot.len();
-        let m = &mut self.command_monitor;
+        let n = self.state.motion.qdot.len();
+        let m = &mut self.state.stop.command_monitor;
         m.signs.resize(n, 0.0);
         m.counters.resize_with(n, Default::default);
         let mut worst = (0, 0);
-        for (k, (v, j)) in self.motion.qdot.iter().zip(&self.robot.joints).enumerate() {
+        for (k, (v, j)) in self
+            .state
+            .motion
+            .qdot
+            .iter()
+            .zip(&self.model.robot.joints)
+            .enumerate()
+        {
             let count = if v.abs() > REVERSAL_SPEED * j.max_velocity && v.signum() != m.signs[k] {
                 let reversal = m.signs[k] != 0.0;
                 m.signs[k] = v.signum();
                 if reversal {
-                    m.counters[k].record(self.t, window)
+                    m.counters[k].record(self.state.t, window)
                 } else {
-                    m.counters[k].count(self.t, window)
+                    m.counters[k].count(self.state.t, window)
                 }
             } else {
-                m.counters[k].count(self.t, window)
+                m.counters[k].count(self.state.t, window)
             };
             if count > worst.1 {
                 worst = (k, count);
@@ -222,7 +239,8 @@ impl World {
         if rising {
             let name = format!(
                 "command:{}",
-                self.robot
+                self.model
+                    .robot
                     .link_label(worst.0 + 1)
                     .replace("link ", "joint ")
             );

@@ -57,9 +57,14 @@ impl World {
     /// the world without building its state.
     #[must_use]
     pub fn probe(&self) -> StepProbe {
-        let joint_speed = self.motion.qdot.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let joint_speed = self
+            .state
+            .motion
+            .qdot
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
         StepProbe {
-            min_clearance: self.min_clearance,
+            min_clearance: self.data.readout.min_clearance,
             joint_speed,
             transition_slack: self.transition_slack(),
         }
@@ -71,31 +76,35 @@ impl World {
     /// is removed until the next step).
     #[must_use]
     pub fn guarded(&self) -> Vec<GuardedPair> {
-        let p = self.scenario.controller.protective;
-        let dt = if self.step_dt > 0.0 {
-            self.step_dt
+        let p = self.model.scenario.controller.protective;
+        let dt = if self.data.propagation.dt > 0.0 {
+            self.data.propagation.dt
         } else {
-            self.scenario.dt
+            self.model.scenario.dt
         };
-        let reach = p.reaction_time + braking_time(&self.robot, &self.motion, dt);
-        self.guard_pairs
+        let reach = p.reaction_time + braking_time(&self.model.robot, &self.state.motion, dt);
+        self.data
+            .guard
+            .pairs
             .iter()
             .map(|g| GuardedPair {
                 obstacle: g.obstacle.map_or_else(
-                    || format!("self:{}", self.skeleton.segments[g.segment].link),
-                    |o| self.obstacles[o].spec.id.clone(),
+                    || format!("self:{}", self.data.skeleton.segments[g.segment].link),
+                    |o| self.state.sensed.obstacles[o].spec.id.clone(),
                 ),
                 part: g.part.and_then(|id| self.scene_part_name(id)),
                 segment: g.segment,
                 distance: g.distance,
                 margin: match (g.obstacle, g.part) {
                     (Some(o), Some(id)) => self
+                        .state
+                        .sensed
                         .part_index
                         .get(id)
-                        .map_or(self.obstacles[o].margin, |&k| {
-                            self.obstacles[o].part_margin(k)
+                        .map_or(self.state.sensed.obstacles[o].margin, |&k| {
+                            self.state.sensed.obstacles[o].part_margin(k)
                         }),
-                    (Some(o), None) => self.obstacles[o].margin,
+                    (Some(o), None) => self.state.sensed.obstacles[o].margin,
                     _ => 0.0,
                 },
                 approach_speed: g.obstacle_speed,
@@ -111,11 +120,12 @@ impl World {
     /// (the smallest time to collision may belong to another point).
     fn transition_slack(&self) -> Option<f64> {
         let remaining = self
+            .state
             .trackers
             .values()
             .map(|tr| tr.mover.remaining())
             .fold(0.0_f64, f64::max);
-        let ttc = self.time_to_collision?;
+        let ttc = self.data.readout.time_to_collision?;
         (remaining > 0.0).then_some(ttc - remaining)
     }
 }

@@ -11,14 +11,16 @@ impl World {
     /// Joint velocities now (rad/s or m/s), in the order of `q`.
     #[must_use]
     pub fn qdot(&self) -> &[f64] {
-        &self.motion.qdot
+        &self.state.motion.qdot
     }
 
     /// [`World::clearance_of`] every obstacle now, by id (infinite ones
     /// left out: a robot without segments).
     #[must_use]
     pub fn clearances(&self) -> std::collections::BTreeMap<String, f64> {
-        self.obstacles
+        self.state
+            .sensed
+            .obstacles
             .iter()
             .filter_map(|o| {
                 let d = self.clearance_of(&o.spec.id).ok()?;
@@ -35,8 +37,8 @@ impl World {
     /// `id: no obstacle "…"` for an unknown id.
     pub fn clearance_of(&self, id: &str) -> Result<f64, ScenarioError> {
         let k = self.index_of(id)?;
-        let o = &self.obstacles[k];
-        let off = o.offset(self.t);
+        let o = &self.state.sensed.obstacles[k];
+        let off = o.offset(self.state.t);
         let scene = Scene::new(
             o.parts
                 .iter()
@@ -53,7 +55,7 @@ impl World {
             broad_phase: BroadPhase::BruteForce,
         };
         let pairs = scene
-            .query(&self.skeleton, &options, |_, _| true)
+            .query(&self.data.skeleton, &options, |_, _| true)
             .map_err(|e| FieldError::new("id", e.to_string()))?;
         Ok(pairs
             .iter()

@@ -228,9 +228,9 @@ impl World {
     /// [`World::event_count`] when the caller last read them).
     #[must_use]
     pub fn state_since(&self, cursor: usize) -> WorldState {
-        let sk = &self.skeleton;
+        let sk = &self.data.skeleton;
         let (sigmas, command_sigma) = self.propagation();
-        let mut control_points = self.points.clone();
+        let mut control_points = self.data.readout.points.clone();
         for (c, s) in control_points.iter_mut().zip(sigmas) {
             c.sigma = s;
         }
@@ -240,18 +240,20 @@ impl World {
                 d: c.d,
                 a: c.a,
             };
-            c.table = point.table(&self.robot, &self.frames);
+            c.table = point.table(&self.model.robot, &self.data.frames);
         }
         let obstacles = self
+            .state
+            .sensed
             .obstacles
             .iter()
             .map(|o| {
-                let offset = o.offset(self.t);
+                let offset = o.offset(self.state.t);
                 let shape = translated(&o.spec.shape, offset);
                 let parts = match (&shape, &o.human) {
                     (ShapeSpec::Primitive(p), _) => vec![p.clone()],
                     (ShapeSpec::Human(_), Some(h)) => h
-                        .posed_at(self.t, offset, glam::DVec3::ZERO)
+                        .posed_at(self.state.t, offset, glam::DVec3::ZERO)
                         .parts
                         .into_iter()
                         .map(|p| p.shape)
@@ -266,13 +268,15 @@ impl World {
             })
             .collect();
         WorldState {
-            t: self.t,
-            q: self.q.clone(),
-            qdot: self.motion.qdot.clone(),
-            qddot: self.motion.qddot.clone(),
-            min_clearance: self.min_clearance,
-            closest_part: self.closest_part.clone(),
+            t: self.state.t,
+            q: self.state.q.clone(),
+            qdot: self.state.motion.qdot.clone(),
+            qddot: self.state.motion.qddot.clone(),
+            min_clearance: self.data.readout.min_clearance,
+            closest_part: self.data.readout.closest_part.clone(),
             closest_human: self
+                .data
+                .readout
                 .closest_human
                 .as_ref()
                 .map(|(part, distance)| ClosestHuman {
@@ -296,6 +300,8 @@ impl World {
             obstacles,
             control_points,
             uncertainty: self
+                .state
+                .sensed
                 .obstacles
                 .iter()
                 .filter(|o| o.margin > 0.0)
@@ -315,27 +321,29 @@ impl World {
                     }),
                 })
                 .collect(),
-            command: self.request.clone(),
+            command: self.data.request.clone(),
             command_sigma,
             events: self
+                .log
                 .events
-                .get(cursor.saturating_sub(self.events_dropped)..)
+                .get(cursor.saturating_sub(self.log.dropped)..)
                 .unwrap_or(&[])
                 .to_vec(),
-            time_to_collision: self.time_to_collision,
-            stopped: self.stopped,
+            time_to_collision: self.data.readout.time_to_collision,
+            stopped: self.state.stop.stopped,
             sliding_points: self.sliding_points(),
         }
     }
 
     /// Where each point task's sliding point is at the current time.
     fn sliding_points(&self) -> Vec<[f64; 3]> {
-        self.scenario
+        self.model
+            .scenario
             .task
             .as_slice()
             .iter()
-            .filter_map(|task| task.point_at(self.t))
-            .map(|(dh, _)| dh.position(&self.robot, &self.frames).to_array())
+            .filter_map(|task| task.point_at(self.state.t))
+            .map(|(dh, _)| dh.position(&self.model.robot, &self.data.frames).to_array())
             .collect()
     }
 
@@ -345,12 +353,14 @@ impl World {
     pub fn sample(&self) -> Sample {
         let (sigmas, command_sigma) = self.propagation();
         Sample {
-            t: self.step_t,
-            q: self.step_q.clone(),
-            qdot: self.step_qdot.clone(),
+            t: self.data.propagation.t,
+            q: self.data.propagation.q.clone(),
+            qdot: self.data.propagation.qdot.clone(),
             clearances: std::collections::BTreeMap::new(),
-            min_clearance: self.min_clearance,
+            min_clearance: self.data.readout.min_clearance,
             control_points: self
+                .data
+                .readout
                 .points
                 .iter()
                 .zip(sigmas)

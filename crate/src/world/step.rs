@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::{MAX_EVENTS, StopReason, World};
+use super::{StopReason, World};
 use crate::avoidance::constraints::{ConstraintsInput, constrained_velocity};
 use crate::avoidance::limits::{self, braking_time};
 use crate::avoidance::selection::{self, Key, fraction_on};
@@ -35,47 +35,56 @@ impl World {
         }
         if self.step_inner(dt).is_err() {
             // Only reachable through a bug: brake as a stop would.
-            let n = self.robot.dof();
-            let robot = &self.robot;
-            limits::step(robot, &self.q, &vec![0.0; n], &mut self.motion, dt);
+            let n = self.model.robot.dof();
+            let robot = &self.model.robot;
+            limits::step(
+                robot,
+                &self.state.q,
+                &vec![0.0; n],
+                &mut self.state.motion,
+                dt,
+            );
         }
-        if !self.keep_all_events && self.events.len() > MAX_EVENTS {
-            let drop = self.events.len() - MAX_EVENTS / 2;
-            self.events.drain(..drop);
-            self.events_dropped += drop;
-        }
+        self.log.trim();
     }
 
     fn step_inner(&mut self, dt: f64) -> Result<(), FieldError> {
-        let cfg = self.scenario.controller.clone();
+        let cfg = self.model.scenario.controller.clone();
         // 1. sense
         // A figure moved by edits counts as moving until its edit velocity
         // has expired, so that the scene (which carries each part's
         // velocity) is rebuilt once more with the figure at rest.
-        let t = self.t;
-        let moving = self.obstacles.iter().any(|o| {
+        let t = self.state.t;
+        let moving = self.state.sensed.obstacles.iter().any(|o| {
             o.moves()
                 || o.dragged
                     .is_some_and(|(at, _)| t - at <= 2.0 * super::obstacles::DRAG_HOLD)
         });
-        if moving || self.scene_dirty {
-            self.rebuild_scene(self.t, true, dt);
+        if moving || self.state.sensed.dirty {
+            self.rebuild_scene(self.state.t, true, dt);
         }
-        let t = self.t;
-        for o in &mut self.obstacles {
+        let t = self.state.t;
+        for o in &mut self.state.sensed.obstacles {
             o.update_margin(t, dt);
         }
         // 2. scene query
         let pairs = self.scene_query(&cfg)?;
-        if self.t == 0.0 {
+        if self.state.t == 0.0 {
             self.report_start_contact(&pairs);
         }
         // 3. select
-        let margins: Vec<f64> = self.obstacles.iter().map(|o| o.margin).collect();
+        let margins: Vec<f64> = self
+            .state
+            .sensed
+            .obstacles
+            .iter()
+            .map(|o| o.margin)
+            .collect();
         // The segments the perObstacle points follow, read only with a
         // hysteresis (an empty map allocates nothing on this hot path).
         let following: std::collections::BTreeMap<usize, usize> = if cfg.switch_hysteresis > 0.0 {
-            self.trackers
+            self.state
+                .trackers
                 .iter()
                 .filter_map(|(key, t)| match key {
                     Key::Obstacle(o) => Some((*o, t.mover.selected().segment)),
@@ -87,10 +96,10 @@ impl World {
         };
         let selected = selection::select(
             &pairs,
-            &self.owners,
+            &self.state.sensed.owners,
             &margins,
             &following,
-            &self.skeleton,
+            &self.data.skeleton,
             &cfg,
         );
         // 4.–5. transition and monitor
@@ -99,12 +108,15 @@ impl World {
         let active = self.active_points(&cfg, dt)?;
         // 6. control (what the propagation of the sensing errors needs is
         // kept, and computed when the state is read)
-        self.step_qdot.clone_from(&self.motion.qdot);
-        self.step_q.clone_from(&self.q);
-        self.step_dt = dt;
+        self.data
+            .propagation
+            .qdot
+            .clone_from(&self.state.motion.qdot);
+        self.data.propagation.q.clone_from(&self.state.q);
+        self.data.propagation.dt = dt;
         self.prepare_guards(&cfg, &pairs, dt)?;
         self.control(&cfg, &active, dt)?;
-        self.active = active;
+        self.data.propagation.active = active;
         // 7. protect
         let all_hold = self.protect(&cfg, dt);
         self.maybe_resume(all_hold);
@@ -118,26 +130,37 @@ impl World {
     /// the obstacles as sensed; also the true smallest clearance.
     fn scene_query(&mut self, cfg: &ControllerConfig) -> Result<Vec<PairDistance>, FieldError> {
         if cfg.mode == Mode::Clik2 {
-            self.frames = self
+            self.data.frames = self
+                .model
                 .robot
-                .forward_with_velocity(&self.q, &self.motion.qdot)?;
+                .forward_with_velocity(&self.state.q, &self.state.motion.qdot)?;
         } else {
-            self.robot.forward_into(&self.q, &mut self.frames)?;
+            self.model
+                .robot
+                .forward_into(&self.state.q, &mut self.data.frames)?;
         }
-        self.skeleton.build_into(&self.robot, &self.frames);
-        let max_margin = self.obstacles.iter().map(|o| o.margin).fold(0.0, f64::max);
+        self.data
+            .skeleton
+            .build_into(&self.model.robot, &self.data.frames);
+        let max_margin = self
+            .state
+            .sensed
+            .obstacles
+            .iter()
+            .map(|o| o.margin)
+            .fold(0.0, f64::max);
         let options = QueryOptions {
             influence_distance: cfg.influence_distance + max_margin,
             self_collision: cfg.self_collision,
             ..QueryOptions::default()
         };
-        let adjacency = &self.adjacency;
+        let adjacency = &self.model.adjacency;
         let query = |scene: &crate::distance::Scene| {
             scene
-                .query(&self.skeleton, &options, |i, j| adjacency[i][j])
+                .query(&self.data.skeleton, &options, |i, j| adjacency[i][j])
                 .map_err(|e| FieldError::new("scene", e.to_string()))
         };
-        let pairs = query(&self.scene)?;
+        let pairs = query(&self.state.sensed.scene)?;
         let part = |p: &PairDistance| match p.target {
             Target::Obstacle { id, .. } => self.scene_part_name(id as usize),
             Target::Segment(_) => None,
@@ -150,10 +173,10 @@ impl World {
         // The clearance reported is the true one: with noisy sensing the
         // scene as it is, where only its nearest pairs are wanted
         // (`Scene::nearest`); self-collision pairs are the same in both.
-        let (closest, human) = if self.obstacles.iter().any(ObstacleState::noisy) {
+        let (closest, human) = if self.state.sensed.obstacles.iter().any(ObstacleState::noisy) {
             let truth = self
-                .clone_scene_at(self.t)
-                .nearest(&self.skeleton, options.influence_distance, |j| {
+                .clone_scene_at(self.state.t)
+                .nearest(&self.data.skeleton, options.influence_distance, |j| {
                     self.is_named_part(j)
                 })
                 .map_err(|e| FieldError::new("scene", e.to_string()))?;
@@ -175,9 +198,9 @@ impl World {
         };
         let closest_part = closest.as_ref().and_then(part);
         let closest_human = human.as_ref().and_then(|p| Some((part(p)?, p.distance)));
-        self.min_clearance = closest.map(|p| p.distance);
-        self.closest_part = closest_part;
-        self.closest_human = closest_human;
+        self.data.readout.min_clearance = closest.map(|p| p.distance);
+        self.data.readout.closest_part = closest_part;
+        self.data.readout.closest_human = closest_human;
         Ok(pairs)
     }
 
@@ -190,9 +213,9 @@ impl World {
         radius: f64,
     ) -> Result<(f64, DVec3, DVec3, Option<usize>), FieldError> {
         if let Key::SelfPair(_, other) = key {
-            let seg = &self.skeleton.segments[*other];
-            let u = fraction_on(&self.skeleton, *other, position);
-            let (a, b) = self.skeleton.endpoints(seg);
+            let seg = &self.data.skeleton.segments[*other];
+            let u = fraction_on(&self.data.skeleton, *other, position);
+            let (a, b) = self.data.skeleton.endpoints(seg);
             let c = a + (b - a) * u;
             let r2 = Skeleton::radius_at(seg, u);
             let v = c - position;
@@ -220,22 +243,24 @@ impl World {
         let mut sigma_inputs = Vec::new();
         let mut states = Vec::new();
         let mut min_ttc = f64::INFINITY;
-        let braking = braking_time(&self.robot, &self.motion, dt);
-        self.slowdown.clear();
-        self.slowdown.resize(self.obstacles.len(), 1.0);
-        let keys: Vec<Key> = self.trackers.keys().cloned().collect();
+        let braking = braking_time(&self.model.robot, &self.state.motion, dt);
+        self.data.slowdown.clear();
+        self.data
+            .slowdown
+            .resize(self.state.sensed.obstacles.len(), 1.0);
+        let keys: Vec<Key> = self.state.trackers.keys().cloned().collect();
         for key in keys {
             let Some((dh, radius)) = self.tracked_point(&key, cfg)? else {
                 continue;
             };
-            let Some(tr) = self.trackers.get(&key) else {
+            let Some(tr) = self.state.trackers.get(&key) else {
                 continue;
             };
             let (prev, remaining, owner) = (tr.closing, tr.mover.remaining(), tr.owner);
             let target = tr.mover.transition().map(|x| x.target());
             let selected_at = (!matches!(key, Key::Pinned(_))).then(|| tr.mover.selected());
             let was_slow = tr.too_slow;
-            let position = dh.position(&self.robot, &self.frames);
+            let position = dh.position(&self.model.robot, &self.data.frames);
             let owner = match key {
                 Key::Pinned(k) => self.pinned_owner(&key, k, position),
                 _ => owner,
@@ -273,10 +298,18 @@ impl World {
             };
             self.monitor_transition(&key, &approach, cfg);
             let target = target.and_then(|x| {
-                DhPoint::from_skeleton(&self.robot, &self.frames, &self.skeleton, x.segment, x.t)
-                    .ok()
+                DhPoint::from_skeleton(
+                    &self.model.robot,
+                    &self.data.frames,
+                    &self.data.skeleton,
+                    x.segment,
+                    x.t,
+                )
+                .ok()
             });
-            if let Some(owner) = owner.filter(|&o| !self.obstacles[o].covariance.is_zero()) {
+            if let Some(owner) =
+                owner.filter(|&o| !self.state.sensed.obstacles[o].covariance.is_zero())
+            {
                 sigma_inputs.push(SigmaInput {
                     point: states.len(),
                     active: dist.is_finite().then_some(active.len()),
@@ -306,9 +339,9 @@ impl World {
                 table: Vec::new(),
             });
         }
-        self.points = states;
-        self.sigma_inputs = sigma_inputs;
-        self.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
+        self.data.readout.points = states;
+        self.data.propagation.sigma_inputs = sigma_inputs;
+        self.data.readout.time_to_collision = min_ttc.is_finite().then_some(min_ttc);
         Ok(active)
     }
 
@@ -320,7 +353,7 @@ impl World {
         key: &Key,
         cfg: &ControllerConfig,
     ) -> Result<Option<(DhPoint, f64)>, FieldError> {
-        let Some(tr) = self.trackers.get(key) else {
+        let Some(tr) = self.state.trackers.get(key) else {
             return Ok(None);
         };
         Ok(Some(if let Key::Pinned(k) = key {
@@ -328,13 +361,20 @@ impl World {
                 return Ok(None);
             };
             (
-                p.clamped(&self.frames),
-                self.robot.joints[p.link - 1].radius[0],
+                p.clamped(&self.data.frames),
+                self.model.robot.joints[p.link - 1].radius[0],
             )
         } else {
             let pt = tr.mover.point();
-            let (dh, _) = dh_motion(&self.robot, &self.frames, &self.skeleton, pt, 0.0, 0.0)?;
-            let seg = &self.skeleton.segments[pt.segment];
+            let (dh, _) = dh_motion(
+                &self.model.robot,
+                &self.data.frames,
+                &self.data.skeleton,
+                pt,
+                0.0,
+                0.0,
+            )?;
+            let seg = &self.data.skeleton.segments[pt.segment];
             (dh, Skeleton::radius_at(seg, pt.t))
         }))
     }
@@ -344,7 +384,7 @@ impl World {
     fn point_name(&self, key: &Key, owner: Option<usize>) -> String {
         match (key, owner) {
             (Key::Pinned(k), None) => format!("pinned:{k}"),
-            (Key::Pinned(_), Some(o)) => self.obstacles[o].spec.id.clone(),
+            (Key::Pinned(_), Some(o)) => self.state.sensed.obstacles[o].spec.id.clone(),
             _ => self.name(key),
         }
     }
@@ -354,9 +394,13 @@ impl World {
     /// monitor.
     fn pinned_owner(&mut self, key: &Key, k: usize, position: DVec3) -> Option<usize> {
         let closest = self.closest_obstacle(position);
-        let mut tracker = self.trackers.remove(key)?;
+        let mut tracker = self.state.trackers.remove(key)?;
         let owner = match tracker.lock {
-            Some((held, until)) if self.t < until && held < self.obstacles.len() => Some(held),
+            Some((held, until))
+                if self.state.t < until && held < self.state.sensed.obstacles.len() =>
+            {
+                Some(held)
+            }
             Some(_) => {
                 tracker.lock = None;
                 let obstacle = format!("pinned:{k}");
@@ -370,7 +414,7 @@ impl World {
         if let Some(o) = owner {
             self.monitor_chattering(&mut tracker, &Key::Pinned(k), switched, o);
         }
-        self.trackers.insert(key.clone(), tracker);
+        self.state.trackers.insert(key.clone(), tracker);
         owner
     }
 
@@ -382,34 +426,35 @@ impl World {
         active: &[ActivePoint],
         dt: f64,
     ) -> Result<(), FieldError> {
-        let mut refs = std::mem::take(&mut self.references);
-        self.scenario.task.references(
-            &self.robot,
-            self.t,
-            &self.anchors,
+        let mut refs = std::mem::take(&mut self.data.references);
+        self.model.scenario.task.references(
+            &self.model.robot,
+            self.state.t,
+            &self.state.anchors,
             Self::uses_constraints(cfg),
             &mut refs,
         );
-        self.references = refs;
+        self.data.references = refs;
         if Self::uses_constraints(cfg) {
             let input = ConstraintsInput {
-                robot: &self.robot,
-                frames: &self.frames,
-                q: &self.q,
-                stop_time: self.stop_time,
-                tasks: &self.references,
-                guards: &self.guards,
+                robot: &self.model.robot,
+                frames: &self.data.frames,
+                q: &self.state.q,
+                stop_time: self.data.guard.stop_time,
+                tasks: &self.data.references,
+                guards: &self.data.guard.guards,
                 config: cfg,
             };
-            let mut out = std::mem::take(&mut self.request);
-            let outcome = constrained_velocity(&input, &mut self.qp, &mut out)?;
-            self.relaxed = outcome.relaxed;
-            self.request = out;
+            let mut out = std::mem::take(&mut self.data.request);
+            let outcome = constrained_velocity(&input, &mut self.data.guard.qp, &mut out)?;
+            self.data.guard.relaxed = outcome.relaxed;
+            self.data.request = out;
         } else {
-            self.request = self.request_for(cfg, active, &self.q, &self.motion.qdot, dt)?;
+            self.data.request =
+                self.request_for(cfg, active, &self.state.q, &self.state.motion.qdot, dt)?;
         }
-        if self.stopped {
-            self.request.iter_mut().for_each(|v| *v = 0.0);
+        if self.state.stop.stopped {
+            self.data.request.iter_mut().for_each(|v| *v = 0.0);
         }
         Ok(())
     }
@@ -425,8 +470,8 @@ impl World {
         qdot: &[f64],
         dt: f64,
     ) -> Result<Vec<f64>, FieldError> {
-        let (robot, frames) = (&self.robot, &self.frames);
-        let refs = &self.references;
+        let (robot, frames) = (&self.model.robot, &self.data.frames);
+        let refs = &self.data.references;
         Ok(match cfg.mode {
             Mode::Velocity => avoidance::velocity_control(robot, frames, active, refs, cfg)?,
             Mode::Torque => {
@@ -442,7 +487,7 @@ impl World {
     /// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`
     /// (counted as `k·dt`, see `clock`).
     fn limit_and_integrate(&mut self, dt: f64) {
-        self.step_t = self.t;
+        self.data.propagation.t = self.state.t;
         // A chattering stop decelerates gently (`maxDeceleration`); a stop
         // before an unavoidable contact and the emergency brake use the
         // full deceleration of the slowest joint. Every stop is
@@ -450,27 +495,28 @@ impl World {
         // so every pair's approach speed shrinks with them (joints braked
         // each at its own rate can turn a motion along an obstacle into one
         // towards it: measured on the PR2 reach problems).
-        let urgent = self.braking || self.stop_reason == Some(StopReason::Unavoidable);
+        let urgent =
+            self.state.stop.braking || self.state.stop.reason == Some(StopReason::Unavoidable);
         let options = limits::StepOptions {
-            max_acceleration: if self.stopped && !urgent {
-                self.scenario.dependability.max_deceleration
+            max_acceleration: if self.state.stop.stopped && !urgent {
+                self.model.scenario.dependability.max_deceleration
             } else {
                 f64::INFINITY
             },
             synchronise: true,
         };
         limits::step_with(
-            &self.robot,
-            &self.q,
-            &self.request,
-            &mut self.motion,
+            &self.model.robot,
+            &self.state.q,
+            &self.data.request,
+            &mut self.state.motion,
             dt,
             &options,
         );
-        for (q, v) in self.q.iter_mut().zip(&self.motion.qdot) {
+        for (q, v) in self.state.q.iter_mut().zip(&self.state.motion.qdot) {
             *q += v * dt;
         }
-        self.robot.clamp_to_limits(&mut self.q);
-        self.t = self.clock.advance(self.t, dt);
+        self.model.robot.clamp_to_limits(&mut self.state.q);
+        self.state.t = self.state.clock.advance(self.state.t, dt);
     }
 }

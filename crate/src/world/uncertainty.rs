@@ -140,10 +140,10 @@ impl World {
     /// control point answers a noisy obstacle).
     #[must_use]
     pub fn propagation(&self) -> (Vec<Option<PointSigma>>, Option<Vec<f64>>) {
-        let cfg = &self.scenario.controller;
-        let mut points = vec![None; self.points.len()];
-        let mut probes = vec![None; self.active.len()];
-        for input in &self.sigma_inputs {
+        let cfg = &self.model.scenario.controller;
+        let mut points = vec![None; self.data.readout.points.len()];
+        let mut probes = vec![None; self.data.propagation.active.len()];
+        for input in &self.data.propagation.sigma_inputs {
             let Some((sigma, p)) = self.point_sigma(input, cfg) else {
                 continue;
             };
@@ -178,7 +178,7 @@ impl World {
             broad_phase: BroadPhase::BruteForce,
         };
         Ok(scene
-            .query(&self.skeleton, &options, |_, _| true)
+            .query(&self.data.skeleton, &options, |_, _| true)
             .map_err(|e| FieldError::new("shape", e.to_string()))?)
     }
 
@@ -211,7 +211,7 @@ impl World {
             .map_err(ScenarioError::Field)?
             .map_or(0.0, |h| h.part_sigma().iter().copied().fold(0.0, f64::max));
         let covariance = SensorModel::from_spec(sensing, 0).covariance_with(largest);
-        let jump = self.scenario.controller.jump_threshold;
+        let jump = self.model.scenario.controller.jump_threshold;
         let (odds, _) = segment_odds(&pairs, best, jump, &covariance);
         Ok(Risk {
             clearance: best.distance,
@@ -240,7 +240,7 @@ impl World {
             gain,
             ..
         } = *input;
-        let o = self.obstacles.get(owner)?;
+        let o = self.state.sensed.obstacles.get(owner)?;
         if o.covariance.is_zero() {
             return None;
         }
@@ -299,8 +299,10 @@ impl World {
         let mut best: Option<PairDistance> = None;
         for index in self.parts_of(owner) {
             let p = self
+                .state
+                .sensed
                 .scene
-                .pair_moved(&self.skeleton, segment, index, offset)
+                .pair_moved(&self.data.skeleton, segment, index, offset)
                 .ok()?;
             if best.is_none_or(|b| p.distance < b.distance) {
                 best = Some(p);
@@ -308,9 +310,9 @@ impl World {
         }
         let p = best?;
         let dh = DhPoint::from_skeleton(
-            &self.robot,
-            &self.frames,
-            &self.skeleton,
+            &self.model.robot,
+            &self.data.frames,
+            &self.data.skeleton,
             segment,
             p.fraction,
         )
@@ -337,14 +339,14 @@ impl World {
         if Self::uses_constraints(cfg) {
             return Ok(None);
         }
-        let active = &self.active;
+        let active = &self.data.propagation.active;
         let mut owners: Vec<usize> = probes.iter().flatten().map(|p| p.owner).collect();
         owners.sort_unstable();
         owners.dedup();
         if owners.is_empty() {
             return Ok(None);
         }
-        let mut variance = vec![0.0; self.robot.dof()];
+        let mut variance = vec![0.0; self.model.robot.dof()];
         let mut moved = active.to_vec();
         for o in owners {
             let mut columns: [Vec<f64>; 3] = Default::default();
@@ -358,7 +360,13 @@ impl World {
                             m.dh = v.dh.unwrap_or(m.dh);
                         }
                     }
-                    self.request_for(cfg, &moved, &self.step_q, &self.step_qdot, self.step_dt)
+                    self.request_for(
+                        cfg,
+                        &moved,
+                        &self.data.propagation.q,
+                        &self.data.propagation.qdot,
+                        self.data.propagation.dt,
+                    )
                 };
                 let (plus, minus) = (run(2 * k)?, run(2 * k + 1)?);
                 *column = plus
@@ -367,7 +375,7 @@ impl World {
                     .map(|(p, m)| (p - m) / (2.0 * FD_STEP))
                     .collect();
             }
-            let s = self.obstacles[o].covariance.std_of(&columns);
+            let s = self.state.sensed.obstacles[o].covariance.std_of(&columns);
             for (v, s) in variance.iter_mut().zip(s) {
                 *v += s * s;
             }

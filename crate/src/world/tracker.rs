@@ -72,25 +72,25 @@ impl World {
         selected: &Selected,
         config: &ControllerConfig,
     ) {
-        let level = self.scenario.dependability.switch_risk;
+        let level = self.model.scenario.dependability.switch_risk;
         let mut risky_now = BTreeSet::new();
-        for o in &mut self.obstacles {
+        for o in &mut self.state.sensed.obstacles {
             o.switch = SwitchOdds::default();
         }
         let by_owner = self.pairs_by_owner(pairs);
         for (&owner, &k) in &selected.closest {
             let b = &pairs[k];
-            let covariance = self.obstacles[owner].covariance;
+            let covariance = self.state.sensed.obstacles[owner].covariance;
             let mine = by_owner.of(owner).iter().map(|&i| &pairs[i]);
             let (odds, alt) = segment_odds(mine, b, config.jump_threshold, &covariance);
             let probability = odds.probability;
-            self.obstacles[owner].switch = odds;
+            self.state.sensed.obstacles[owner].switch = odds;
             let Some(alt) = alt.filter(|_| probability >= level) else {
                 continue;
             };
             risky_now.insert(owner);
-            if !self.risky.contains(&owner) {
-                let o = &self.obstacles[owner];
+            if !self.state.risky.contains(&owner) {
+                let o = &self.state.sensed.obstacles[owner];
                 self.push(EventKind::SwitchRisk {
                     obstacle: o.spec.id.clone(),
                     segment: b.segment,
@@ -101,7 +101,7 @@ impl World {
                 });
             }
         }
-        self.risky = risky_now;
+        self.state.risky = risky_now;
     }
 
     /// The pairs' indices grouped by the obstacle that owns them (a
@@ -110,21 +110,23 @@ impl World {
     fn pairs_by_owner(&self, pairs: &[PairDistance]) -> ByOwner {
         let owner = |p: &PairDistance| match p.target {
             Target::Obstacle { id, .. } => self
+                .state
+                .sensed
                 .owners
                 .get(id as usize)
                 .copied()
-                .filter(|&o| o < self.obstacles.len()),
+                .filter(|&o| o < self.state.sensed.obstacles.len()),
             _ => None,
         };
-        let mut start = vec![0; self.obstacles.len() + 1];
+        let mut start = vec![0; self.state.sensed.obstacles.len() + 1];
         for o in pairs.iter().filter_map(owner) {
             start[o + 1] += 1;
         }
-        for o in 0..self.obstacles.len() {
+        for o in 0..self.state.sensed.obstacles.len() {
             start[o + 1] += start[o];
         }
         let mut fill = start.clone();
-        let mut index = vec![0; start[self.obstacles.len()]];
+        let mut index = vec![0; start[self.state.sensed.obstacles.len()]];
         for (i, o) in pairs
             .iter()
             .enumerate()
@@ -147,7 +149,7 @@ impl World {
         let owner = tracker.owner;
         let on_segment = pairs.iter().find(|p| {
             p.segment == segment
-                && matches!(p.target, Target::Obstacle { id, .. } if Some(self.owners[id as usize]) == owner)
+                && matches!(p.target, Target::Obstacle { id, .. } if Some(self.state.sensed.owners[id as usize]) == owner)
         });
         on_segment.map_or(
             SkeletonPoint {
@@ -177,14 +179,15 @@ impl World {
     ) -> Result<(), FieldError> {
         // The trackers are taken out while they move (no remove and insert
         // per point and step), and put back whatever happens.
-        let mut trackers = std::mem::take(&mut self.trackers);
+        let mut trackers = std::mem::take(&mut self.state.trackers);
         trackers.retain(|k, _| selected.points.contains_key(k) || matches!(k, Key::Pinned(_)));
         let moved = self.move_points(&mut trackers, selected, pairs, dt, config);
-        self.trackers = trackers;
+        self.state.trackers = trackers;
         moved?;
         if config.selection == crate::avoidance::Selection::Pinned {
             for k in 0..config.pinned.len() {
-                self.trackers
+                self.state
+                    .trackers
                     .entry(Key::Pinned(k))
                     .or_insert_with(|| Tracker::new(SkeletonPoint { segment: 0, t: 0.0 }, None));
             }
@@ -202,7 +205,7 @@ impl World {
         dt: f64,
         config: &ControllerConfig,
     ) -> Result<(), FieldError> {
-        let t = self.t;
+        let t = self.state.t;
         let settings = TransitionSettings {
             time_per_value: config.transition_time,
             jump_threshold: config.jump_threshold,
@@ -215,8 +218,9 @@ impl World {
             if let Some((segment, until)) = tracker.lock {
                 if t >= until {
                     tracker.lock = None;
-                    let obstacle =
-                        owner.map_or_else(String::new, |o| self.obstacles[o].spec.id.clone());
+                    let obstacle = owner.map_or_else(String::new, |o| {
+                        self.state.sensed.obstacles[o].spec.id.clone()
+                    });
                     self.push(EventKind::Unlock { obstacle });
                 } else if at.segment != segment {
                     at = self.locked_point(tracker, segment, pairs);
@@ -225,12 +229,12 @@ impl World {
             // A switch: the selected point jumps along the skeleton farther
             // than the jump threshold in one step (to another segment, or
             // along its own: a pair's point, whose segment is fixed).
-            let jumped =
-                route_length(&self.skeleton, tracker.mover.selected(), at) > config.jump_threshold;
+            let jumped = route_length(&self.data.skeleton, tracker.mover.selected(), at)
+                > config.jump_threshold;
             point_events.clear();
             tracker
                 .mover
-                .update(&self.skeleton, at, dt, &settings, &mut point_events)?;
+                .update(&self.data.skeleton, at, dt, &settings, &mut point_events)?;
             if !point_events.is_empty() {
                 let name = self.name(key);
                 self.push_point_events(&name, &mut point_events);
@@ -252,7 +256,7 @@ impl World {
         switched: bool,
         hold: usize,
     ) {
-        let (t, dep) = (self.t, self.scenario.dependability);
+        let (t, dep) = (self.state.t, self.model.scenario.dependability);
         let switches = if switched {
             tracker.counter.record(t, dep.switch_window)
         } else {
@@ -314,10 +318,10 @@ impl World {
 
     /// Starts (or extends) a category-2 stop for `hold` seconds at least.
     pub(super) fn stop(&mut self, reason: StopReason, text: String, hold: f64) {
-        self.stopped_until = self.stopped_until.max(self.t + hold);
-        if !self.stopped {
-            self.stopped = true;
-            self.stop_reason = Some(reason);
+        self.state.stop.until = self.state.stop.until.max(self.state.t + hold);
+        if !self.state.stop.stopped {
+            self.state.stop.stopped = true;
+            self.state.stop.reason = Some(reason);
             self.push(EventKind::Stop { reason: text });
         }
     }
@@ -327,19 +331,21 @@ impl World {
     /// approaching obstacle holds: the hold lasts as long as the situation
     /// that caused it.
     pub(super) fn maybe_resume(&mut self, all_guards_hold: bool) {
-        if !self.stopped || self.t < self.stopped_until {
+        if !self.state.stop.stopped || self.state.t < self.state.stop.until {
             return;
         }
-        if self.trackers.values().any(|tr| tr.chattering) || self.command_monitor.chattering() {
-            return;
-        }
-        if self.stop_reason == Some(StopReason::Unavoidable)
-            && !(all_guards_hold && self.motion.is_at_rest())
+        if self.state.trackers.values().any(|tr| tr.chattering)
+            || self.state.stop.command_monitor.chattering()
         {
             return;
         }
-        self.stopped = false;
-        self.stop_reason = None;
+        if self.state.stop.reason == Some(StopReason::Unavoidable)
+            && !(all_guards_hold && self.state.motion.is_at_rest())
+        {
+            return;
+        }
+        self.state.stop.stopped = false;
+        self.state.stop.reason = None;
         self.push(EventKind::Resume);
     }
 }
