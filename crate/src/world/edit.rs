@@ -191,7 +191,7 @@ impl World {
     /// # Errors
     /// Non-finite input or a zero direction.
     pub fn pick(&self, origin: DVec3, direction: DVec3) -> Result<Option<Pick>, ScenarioError> {
-        let scene = self.clone_scene_at(self.state.t);
+        let scene = self.state.sensed.clone_scene_at(self.state.t);
         let hit = scene.pick(origin, direction, PICK_RADIUS)?;
         let mut owners = Vec::new();
         for (k, o) in self.state.sensed.obstacles.iter().enumerate() {
@@ -258,8 +258,7 @@ impl World {
     /// # Errors
     /// An invalid figure.
     pub fn clearance_to(&self, shape: &ShapeSpec) -> Result<f64, ScenarioError> {
-        Ok(self
-            .pairs_with(shape)?
+        Ok(super::uncertainty::pairs_with(self, shape)?
             .iter()
             .map(|p| p.distance)
             .fold(f64::INFINITY, f64::min))

@@ -13,7 +13,7 @@
 
 use glam::DVec3;
 
-use super::World;
+use super::parts::Sensed;
 use crate::dependability::{Covariance, SensorModel};
 use crate::distance::{Obstacle, Primitive, Scene, distance};
 use crate::error::FieldError;
@@ -304,17 +304,17 @@ fn axis(p: &crate::distance::PrimitiveSpec) -> (DVec3, DVec3) {
     }
 }
 
-impl World {
+impl Sensed {
     /// The *sense* stage: the scene of the obstacles at time `t`, as sensed
     /// when `sensed` (seen `latency` late, displaced by their sensing
     /// errors), with the motion of every part (velocities from differences
     /// over `dt` of the obstacle's motion plus, for a human, its limbs').
     pub(super) fn rebuild_scene(&mut self, t: f64, sensed: bool, dt: f64) {
         let mut obstacles = Vec::new();
-        self.state.sensed.owners.clear();
-        self.state.sensed.part_index.clear();
-        self.state.sensed.part_motion.clear();
-        for (k, o) in self.state.sensed.obstacles.iter_mut().enumerate() {
+        self.owners.clear();
+        self.part_index.clear();
+        self.part_motion.clear();
+        for (k, o) in self.obstacles.iter_mut().enumerate() {
             let mut seen = t;
             let mut noise = DVec3::ZERO;
             if sensed && !o.sensor.is_exact() {
@@ -335,32 +335,29 @@ impl World {
                 {
                     shape = shape.translated(o.sensor.noise(s));
                 }
-                let id = self.state.sensed.owners.len() as u32;
-                self.state.sensed.owners.push(k);
-                self.state.sensed.part_index.push(i);
-                self.state.sensed.part_motion.push(motion);
+                let id = self.owners.len() as u32;
+                self.owners.push(k);
+                self.part_index.push(i);
+                self.part_motion.push(motion);
                 obstacles.push(Obstacle { id, shape });
             }
         }
-        self.state.sensed.scene = Scene::new(obstacles);
-        self.state.sensed.dirty = false;
+        self.scene = Scene::new(obstacles);
+        self.dirty = false;
         // `owners` is sorted: each obstacle's parts are one contiguous run.
-        self.state.sensed.part_start.clear();
-        self.state
-            .sensed
-            .part_start
-            .resize(self.state.sensed.obstacles.len() + 1, 0);
-        for &o in &self.state.sensed.owners {
-            self.state.sensed.part_start[o + 1] += 1;
+        self.part_start.clear();
+        self.part_start.resize(self.obstacles.len() + 1, 0);
+        for &o in &self.owners {
+            self.part_start[o + 1] += 1;
         }
-        for o in 0..self.state.sensed.obstacles.len() {
-            self.state.sensed.part_start[o + 1] += self.state.sensed.part_start[o];
+        for o in 0..self.obstacles.len() {
+            self.part_start[o + 1] += self.part_start[o];
         }
     }
 
     /// The scene parts of obstacle `o` (empty for an unknown `o`).
     pub(super) fn parts_of(&self, o: usize) -> std::ops::Range<usize> {
-        match self.state.sensed.part_start.get(o..o + 2) {
+        match self.part_start.get(o..o + 2) {
             Some(&[start, end]) => start..end,
             _ => 0..0,
         }
@@ -369,7 +366,7 @@ impl World {
     pub(super) fn clone_scene_at(&self, t: f64) -> Scene {
         let mut obstacles = Vec::new();
         let mut id = 0u32;
-        for o in &self.state.sensed.obstacles {
+        for o in &self.obstacles {
             for (shape, _) in o.parts_at(t, o.offset(t), DVec3::ZERO) {
                 obstacles.push(Obstacle { id, shape });
                 id += 1;
@@ -385,21 +382,13 @@ impl World {
         let std::ops::Range { start, end } = self.parts_of(o);
         // One part moving as a whole (every primitive): no distance needed.
         if end == start + 1
-            && let Some(m) = self.state.sensed.part_motion.get(start)
+            && let Some(m) = self.part_motion.get(start)
             && m.va == m.vb
         {
             return Some((start, m.va));
         }
         let mut best: Option<(f64, usize, DVec3)> = None;
-        for (k, ob) in self
-            .state
-            .sensed
-            .scene
-            .obstacles()
-            .get(start..end)?
-            .iter()
-            .enumerate()
-        {
+        for (k, ob) in self.scene.obstacles().get(start..end)?.iter().enumerate() {
             if let Ok(d) = distance(&me, &ob.shape)
                 && best.is_none_or(|b| d.distance < b.0)
             {
@@ -407,10 +396,7 @@ impl World {
             }
         }
         let (_, id, witness) = best?;
-        Some((
-            id,
-            self.state.sensed.part_motion.get(id)?.velocity_at(witness),
-        ))
+        Some((id, self.part_motion.get(id)?.velocity_at(witness)))
     }
 
     /// The velocity (m/s) of obstacle `o`'s material point nearest `p` (its
@@ -424,19 +410,17 @@ impl World {
     /// the one that makes `distance − margin` the smallest over its parts
     /// of `distance to the part − the part's margin`.
     pub(super) fn margin_near(&self, o: usize, p: DVec3) -> f64 {
-        let ob = &self.state.sensed.obstacles[o];
+        let ob = &self.obstacles[o];
         if ob.part_margins.is_empty() {
             return ob.margin;
         }
         let me = Primitive::Point(p);
-        let start = self.state.sensed.owners.partition_point(|&x| x < o);
-        let end = self.state.sensed.owners.partition_point(|&x| x <= o);
+        let start = self.owners.partition_point(|&x| x < o);
+        let end = self.owners.partition_point(|&x| x <= o);
         let (mut nearest, mut effective) = (f64::INFINITY, f64::INFINITY);
         for id in start..end {
-            let (Some(part), Some(&k)) = (
-                self.state.sensed.scene.obstacles().get(id),
-                self.state.sensed.part_index.get(id),
-            ) else {
+            let (Some(part), Some(&k)) = (self.scene.obstacles().get(id), self.part_index.get(id))
+            else {
                 continue;
             };
             if let Ok(d) = distance(&me, &part.shape) {
@@ -455,26 +439,23 @@ impl World {
     /// nearest `p`; `None` for a primitive.
     pub(super) fn witness_part(&self, o: usize, p: DVec3) -> Option<String> {
         let (id, _) = self.nearest_part(o, p)?;
-        let ob = &self.state.sensed.obstacles[o];
-        let name = ob.part_name(*self.state.sensed.part_index.get(id)?)?;
+        let ob = &self.obstacles[o];
+        let name = ob.part_name(*self.part_index.get(id)?)?;
         Some(format!("{}:{name}", ob.spec.id))
     }
 
     /// Whether scene obstacle `id` is a named part (a person's).
     pub(super) fn is_named_part(&self, id: usize) -> bool {
-        let (Some(&o), Some(&i)) = (
-            self.state.sensed.owners.get(id),
-            self.state.sensed.part_index.get(id),
-        ) else {
+        let (Some(&o), Some(&i)) = (self.owners.get(id), self.part_index.get(id)) else {
             return false;
         };
-        self.state.sensed.obstacles[o].part_name(i).is_some()
+        self.obstacles[o].part_name(i).is_some()
     }
 
     /// `id:part` of scene part `id` (a human's) or `None`.
     pub(super) fn scene_part_name(&self, id: usize) -> Option<String> {
-        let ob = &self.state.sensed.obstacles[*self.state.sensed.owners.get(id)?];
-        let name = ob.part_name(*self.state.sensed.part_index.get(id)?)?;
+        let ob = &self.obstacles[*self.owners.get(id)?];
+        let name = ob.part_name(*self.part_index.get(id)?)?;
         Some(format!("{}:{name}", ob.spec.id))
     }
 
@@ -487,14 +468,7 @@ impl World {
     ) -> Result<(f64, DVec3, DVec3), FieldError> {
         let me = Primitive::Point(p);
         let mut best: Option<(f64, DVec3, DVec3)> = None;
-        for ob in self
-            .state
-            .sensed
-            .scene
-            .obstacles()
-            .get(self.parts_of(o))
-            .unwrap_or(&[])
-        {
+        for ob in self.scene.obstacles().get(self.parts_of(o)).unwrap_or(&[]) {
             let d =
                 distance(&me, &ob.shape).map_err(|e| FieldError::new("scene", e.to_string()))?;
             if best.is_none_or(|b| d.distance < b.0) {
@@ -506,7 +480,7 @@ impl World {
 
     pub(super) fn closest_obstacle(&self, p: DVec3) -> Option<usize> {
         let mut best: Option<(f64, usize)> = None;
-        for o in 0..self.state.sensed.obstacles.len() {
+        for o in 0..self.obstacles.len() {
             if let Ok((d, _, _)) = self.point_distance(o, p)
                 && best.is_none_or(|b| d < b.0)
             {

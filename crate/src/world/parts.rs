@@ -183,3 +183,13 @@ impl EventLog {
         }
     }
 }
+
+/// The world as a stage reads it while another part is being written:
+/// what the read-only helpers of a step (where a control point is, its
+/// time to collision) take.
+#[derive(Clone, Copy)]
+pub(super) struct Now<'a> {
+    pub(super) model: &'a Model,
+    pub(super) state: &'a State,
+    pub(super) data: &'a StepData,
+}

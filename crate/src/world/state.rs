@@ -216,165 +216,157 @@ pub struct SkeletonPick {
     pub radius: f64,
 }
 
-impl World {
-    /// A snapshot of everything a viewer needs, with every event kept (a
-    /// viewer polling each frame should use [`World::state_since`]).
-    #[must_use]
-    pub fn state(&self) -> WorldState {
-        self.state_since(0)
-    }
+/// The body of [`World::state`].
+pub(super) fn state(w: &World) -> WorldState {
+    state_since(w, 0)
+}
 
-    /// [`World::state`] with only the events from number `cursor` on (the
-    /// [`World::event_count`] when the caller last read them).
-    #[must_use]
-    pub fn state_since(&self, cursor: usize) -> WorldState {
-        let sk = &self.data.skeleton;
-        let (sigmas, command_sigma) = self.propagation();
-        let mut control_points = self.data.readout.points.clone();
-        for (c, s) in control_points.iter_mut().zip(sigmas) {
-            c.sigma = s;
-        }
-        for c in &mut control_points {
-            let point = DhPoint {
-                link: c.link,
-                d: c.d,
-                a: c.a,
+/// The body of [`World::state_since`].
+pub(super) fn state_since(w: &World, cursor: usize) -> WorldState {
+    let sk = &w.data.skeleton;
+    let (sigmas, command_sigma) = w.propagation();
+    let mut control_points = w.data.readout.points.clone();
+    for (c, s) in control_points.iter_mut().zip(sigmas) {
+        c.sigma = s;
+    }
+    for c in &mut control_points {
+        let point = DhPoint {
+            link: c.link,
+            d: c.d,
+            a: c.a,
+        };
+        c.table = point.table(&w.model.robot, &w.data.frames);
+    }
+    let obstacles = w
+        .state
+        .sensed
+        .obstacles
+        .iter()
+        .map(|o| {
+            let offset = o.offset(w.state.t);
+            let shape = translated(&o.spec.shape, offset);
+            let parts = match (&shape, &o.human) {
+                (ShapeSpec::Primitive(p), _) => vec![p.clone()],
+                (ShapeSpec::Human(_), Some(h)) => h
+                    .posed_at(w.state.t, offset, glam::DVec3::ZERO)
+                    .parts
+                    .into_iter()
+                    .map(|p| p.shape)
+                    .collect(),
+                (ShapeSpec::Human(h), None) => h.parts(),
             };
-            c.table = point.table(&self.model.robot, &self.data.frames);
-        }
-        let obstacles = self
+            ObstacleStateOut {
+                id: o.spec.id.clone(),
+                shape,
+                parts,
+            }
+        })
+        .collect();
+    WorldState {
+        t: w.state.t,
+        q: w.state.q.clone(),
+        qdot: w.state.motion.qdot.clone(),
+        qddot: w.state.motion.qddot.clone(),
+        min_clearance: w.data.readout.min_clearance,
+        closest_part: w.data.readout.closest_part.clone(),
+        closest_human: w
+            .data
+            .readout
+            .closest_human
+            .as_ref()
+            .map(|(part, distance)| ClosestHuman {
+                part: part.clone(),
+                distance: *distance,
+            }),
+        skeleton: SkeletonState {
+            nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
+            segments: sk
+                .segments
+                .iter()
+                .map(|s| SegmentState {
+                    from: s.from,
+                    to: s.to,
+                    link: s.link,
+                    part: s.part,
+                    radius: s.radius,
+                })
+                .collect(),
+        },
+        obstacles,
+        control_points,
+        uncertainty: w
             .state
             .sensed
             .obstacles
             .iter()
-            .map(|o| {
-                let offset = o.offset(self.state.t);
-                let shape = translated(&o.spec.shape, offset);
-                let parts = match (&shape, &o.human) {
-                    (ShapeSpec::Primitive(p), _) => vec![p.clone()],
-                    (ShapeSpec::Human(_), Some(h)) => h
-                        .posed_at(self.state.t, offset, glam::DVec3::ZERO)
-                        .parts
-                        .into_iter()
-                        .map(|p| p.shape)
-                        .collect(),
-                    (ShapeSpec::Human(h), None) => h.parts(),
-                };
-                ObstacleStateOut {
-                    id: o.spec.id.clone(),
-                    shape,
-                    parts,
-                }
-            })
-            .collect();
-        WorldState {
-            t: self.state.t,
-            q: self.state.q.clone(),
-            qdot: self.state.motion.qdot.clone(),
-            qddot: self.state.motion.qddot.clone(),
-            min_clearance: self.data.readout.min_clearance,
-            closest_part: self.data.readout.closest_part.clone(),
-            closest_human: self
-                .data
-                .readout
-                .closest_human
-                .as_ref()
-                .map(|(part, distance)| ClosestHuman {
-                    part: part.clone(),
-                    distance: *distance,
+            .filter(|o| o.margin > 0.0)
+            .map(|o| Uncertainty {
+                obstacle: o.spec.id.clone(),
+                radius: o.margin,
+                sigma: o.covariance.variance_along(glam::DVec3::X).sqrt(),
+                switch_probability: o.switch.probability,
+                segment: o.switch.segment,
+                alternative: o.switch.alternative,
+                part_margins: (!o.part_margins.is_empty()).then(|| {
+                    crate::human::PART_NAMES
+                        .iter()
+                        .zip(&o.part_margins)
+                        .map(|(n, m)| ((*n).to_owned(), *m))
+                        .collect()
                 }),
-            skeleton: SkeletonState {
-                nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
-                segments: sk
-                    .segments
-                    .iter()
-                    .map(|s| SegmentState {
-                        from: s.from,
-                        to: s.to,
-                        link: s.link,
-                        part: s.part,
-                        radius: s.radius,
-                    })
-                    .collect(),
-            },
-            obstacles,
-            control_points,
-            uncertainty: self
-                .state
-                .sensed
-                .obstacles
-                .iter()
-                .filter(|o| o.margin > 0.0)
-                .map(|o| Uncertainty {
-                    obstacle: o.spec.id.clone(),
-                    radius: o.margin,
-                    sigma: o.covariance.variance_along(glam::DVec3::X).sqrt(),
-                    switch_probability: o.switch.probability,
-                    segment: o.switch.segment,
-                    alternative: o.switch.alternative,
-                    part_margins: (!o.part_margins.is_empty()).then(|| {
-                        crate::human::PART_NAMES
-                            .iter()
-                            .zip(&o.part_margins)
-                            .map(|(n, m)| ((*n).to_owned(), *m))
-                            .collect()
-                    }),
-                })
-                .collect(),
-            command: self.data.request.clone(),
-            command_sigma,
-            events: self
-                .log
-                .events
-                .get(cursor.saturating_sub(self.log.dropped)..)
-                .unwrap_or(&[])
-                .to_vec(),
-            time_to_collision: self.data.readout.time_to_collision,
-            stopped: self.state.stop.stopped,
-            sliding_points: self.sliding_points(),
-        }
+            })
+            .collect(),
+        command: w.data.request.clone(),
+        command_sigma,
+        events: w
+            .log
+            .events
+            .get(cursor.saturating_sub(w.log.dropped)..)
+            .unwrap_or(&[])
+            .to_vec(),
+        time_to_collision: w.data.readout.time_to_collision,
+        stopped: w.state.stop.stopped,
+        sliding_points: sliding_points(w),
     }
+}
 
-    /// Where each point task's sliding point is at the current time.
-    fn sliding_points(&self) -> Vec<[f64; 3]> {
-        self.model
-            .scenario
-            .task
-            .as_slice()
+/// Where each point task's sliding point is at the current time.
+fn sliding_points(w: &World) -> Vec<[f64; 3]> {
+    w.model
+        .scenario
+        .task
+        .as_slice()
+        .iter()
+        .filter_map(|task| task.point_at(w.state.t))
+        .map(|(dh, _)| dh.position(&w.model.robot, &w.data.frames).to_array())
+        .collect()
+}
+
+/// The body of [`World::sample`].
+pub(super) fn sample(w: &World) -> Sample {
+    let (sigmas, command_sigma) = w.propagation();
+    Sample {
+        t: w.data.propagation.t,
+        q: w.data.propagation.q.clone(),
+        qdot: w.data.propagation.qdot.clone(),
+        clearances: std::collections::BTreeMap::new(),
+        min_clearance: w.data.readout.min_clearance,
+        control_points: w
+            .data
+            .readout
+            .points
             .iter()
-            .filter_map(|task| task.point_at(self.state.t))
-            .map(|(dh, _)| dh.position(&self.model.robot, &self.data.frames).to_array())
-            .collect()
-    }
-
-    /// One trace sample: the time, joints, clearance and control points the
-    /// last step acted on.
-    #[must_use]
-    pub fn sample(&self) -> Sample {
-        let (sigmas, command_sigma) = self.propagation();
-        Sample {
-            t: self.data.propagation.t,
-            q: self.data.propagation.q.clone(),
-            qdot: self.data.propagation.qdot.clone(),
-            clearances: std::collections::BTreeMap::new(),
-            min_clearance: self.data.readout.min_clearance,
-            control_points: self
-                .data
-                .readout
-                .points
-                .iter()
-                .zip(sigmas)
-                .map(|(c, sigma)| TracePoint {
-                    position: c.position,
-                    link: c.link,
-                    d: c.d,
-                    a: c.a,
-                    obstacle: c.obstacle.clone(),
-                    distance: c.distance,
-                    sigma,
-                })
-                .collect(),
-            command_sigma,
-        }
+            .zip(sigmas)
+            .map(|(c, sigma)| TracePoint {
+                position: c.position,
+                link: c.link,
+                d: c.d,
+                a: c.a,
+                obstacle: c.obstacle.clone(),
+                distance: c.distance,
+                sigma,
+            })
+            .collect(),
+        command_sigma,
     }
 }
