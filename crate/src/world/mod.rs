@@ -2,21 +2,36 @@
 //! monitor, stepped interactively ([`World`]) or run to the end of a
 //! scenario ([`simulate`]).
 //!
-//! `World` holds the state; one [`World::step`] runs the control step as a
-//! pipeline of named stages, each a function of the module named after its
-//! part of the paper (the stages are called from `world/step.rs`):
+//! `World` is, Pinocchio/MuJoCo style, a [`parts::Model`] (the scenario
+//! with its configuration, the robot, the link pairs left out: what no
+//! step changes), a [`parts::State`] (what the next step needs: `q`, the
+//! joint motion, `t`, the obstacles as sensed and their scene, the
+//! control points' trackers, the monitors, the stop), a
+//! [`parts::StepData`] (what one step computes: frames, skeleton, guards,
+//! request, QP workspace, readouts) and a [`parts::EventLog`]
+//! (`world/parts.rs`, which says where each borderline field lives and
+//! why). One [`World::step`] runs the control step as named stages, each
+//! a free function over those parts in the file named after it, called in
+//! order from `world/step.rs`; every stage borrows the configuration from
+//! the model (it is never copied):
 //!
 //! | # | stage | where | paper |
 //! |---|---|---|---|
-//! | 1 | **sense**: obstacles at `t`, then as sensed (bias, bounded error, white and correlated noise, latency) and each obstacle's margin | `world/obstacles.rs`, [`crate::dependability::SensorModel`] | §IV |
-//! | 2 | **scene query**: forward kinematics, skeleton, every segment against every obstacle within reach (and non-adjacent links against each other) | [`crate::kinematics`], [`crate::skeleton`], [`crate::distance::Scene::query`] | §II |
-//! | 3 | **select**: control points per pair / per obstacle / pinned / self | [`crate::avoidance::selection::select`] | §II, fig. 4 |
-//! | 4 | **transition**: each control point follows its selected point, travelling along the skeleton when it jumps | [`crate::transition::MovingPoint`] | §III-B |
-//! | 5 | **monitor**: switch risk, chattering (stop or lock), time to collision, transitions too slow for the approach | [`crate::dependability`], `world/monitor.rs` | §IV |
-//! | 6 | **control**: repulsion and tasks → requested joint velocities | [`crate::avoidance::control`] | §III-A, eq. 4 |
-//! | 7 | **protect**: every pair's approach bounded so the arm can stop before contact | [`crate::avoidance::protect`] | — (ISO/TS 15066) |
-//! | 8 | **limit**: jerk-limited tracking within the joints' limits | [`crate::avoidance::limits`] | — |
-//! | 9 | **integrate**: `q += q̇ dt`, `t += dt` | `world/step.rs` | — |
+//! | 1 | **sense**: obstacles at `t`, then as sensed (bias, bounded error, white and correlated noise, latency) and each obstacle's margin | `world/sense.rs`, `world/obstacles.rs`, [`crate::dependability::SensorModel`] | §IV |
+//! | 2 | **scene query**: forward kinematics, skeleton, every segment against every obstacle within reach (and non-adjacent links against each other) | `world/query.rs`, [`crate::kinematics`], [`crate::skeleton`], [`crate::distance::Scene::query`] | §II |
+//! | 3 | **select**: control points per pair / per obstacle / pinned / self | `world/select.rs`, [`crate::avoidance::selection::select`] | §II, fig. 4 |
+//! | 4 | **transition**: each control point follows its selected point, travelling along the skeleton when it jumps; switch risk and chattering | `world/tracker.rs`, [`crate::transition::MovingPoint`] | §III-B, §IV |
+//! | 5 | **monitor**: the active points where they are, time to collision, transitions too slow for the approach | `world/active.rs`, `world/monitor.rs`, [`crate::dependability`] | §IV |
+//! | 6 | **control**: the guards, then repulsion and tasks → requested joint velocities | `world/protect.rs`, `world/control.rs`, [`crate::avoidance::control`] | §III-A, eq. 4 |
+//! | 7 | **protect**: every pair's approach bounded so the arm can stop before contact | `world/protect.rs`, [`crate::avoidance::protect`] | — (ISO/TS 15066) |
+//! | 8 | **limit**: jerk-limited tracking within the joints' limits | `world/limit.rs`, [`crate::avoidance::limits`] | — |
+//! | 9 | **integrate**: `q += q̇ dt`, `t += dt`; then the command monitor | `world/limit.rs`, `world/monitor.rs` | — |
+//!
+//! `impl World` is in this file (the constructor, the step and the
+//! readers, which call the free functions of `state.rs`, `readout.rs`,
+//! `probe.rs` and `uncertainty.rs`) and in `world/edit.rs` (the edits).
+//! `adjacency.rs` computes the link pairs the model leaves out, `run.rs`
+//! runs a scenario to its end, `start.rs` imports a URDF.
 //!
 //! A stop (chattering, or an unavoidable approach) is category 2: the
 //! request becomes zero, the protective layer stays on (asking no retreat),
@@ -280,7 +295,7 @@ impl World {
     /// viewer polling each frame should use [`World::state_since`]).
     #[must_use]
     pub fn state(&self) -> WorldState {
-        state::state(self)
+        self.state_since(0)
     }
 
     /// [`World::state`] with only the events from number `cursor` on (the

@@ -1,4 +1,4 @@
-//! Obstacles of a [`World`]: their figure, motion and sensing model, the
+//! Obstacles of a [`super::World`]: their figure, motion and sensing model, the
 //! scene of the *sense* stage (obstacles at `t` as sensed, with the motion
 //! of every part) and distances from a point to one obstacle.
 //!

@@ -4,10 +4,12 @@
 use serde::Serialize;
 
 use super::World;
+use super::parts::State;
 use crate::control_point::{DhPoint, DhRow};
 use crate::dependability::{Event, PointSigma};
 use crate::distance::PrimitiveSpec;
 use crate::scenario::{Sample, ShapeSpec, TracePoint, translated};
+use crate::skeleton::Skeleton;
 
 /// An active control point in [`WorldState`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -216,11 +218,6 @@ pub struct SkeletonPick {
     pub radius: f64,
 }
 
-/// The body of [`World::state`].
-pub(super) fn state(w: &World) -> WorldState {
-    state_since(w, 0)
-}
-
 /// The body of [`World::state_since`].
 pub(super) fn state_since(w: &World, cursor: usize) -> WorldState {
     let sk = &w.data.skeleton;
@@ -237,31 +234,7 @@ pub(super) fn state_since(w: &World, cursor: usize) -> WorldState {
         };
         c.table = point.table(&w.model.robot, &w.data.frames);
     }
-    let obstacles = w
-        .state
-        .sensed
-        .obstacles
-        .iter()
-        .map(|o| {
-            let offset = o.offset(w.state.t);
-            let shape = translated(&o.spec.shape, offset);
-            let parts = match (&shape, &o.human) {
-                (ShapeSpec::Primitive(p), _) => vec![p.clone()],
-                (ShapeSpec::Human(_), Some(h)) => h
-                    .posed_at(w.state.t, offset, glam::DVec3::ZERO)
-                    .parts
-                    .into_iter()
-                    .map(|p| p.shape)
-                    .collect(),
-                (ShapeSpec::Human(h), None) => h.parts(),
-            };
-            ObstacleStateOut {
-                id: o.spec.id.clone(),
-                shape,
-                parts,
-            }
-        })
-        .collect();
+    let obstacles = obstacles_out(&w.state);
     WorldState {
         t: w.state.t,
         q: w.state.q.clone(),
@@ -278,44 +251,10 @@ pub(super) fn state_since(w: &World, cursor: usize) -> WorldState {
                 part: part.clone(),
                 distance: *distance,
             }),
-        skeleton: SkeletonState {
-            nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
-            segments: sk
-                .segments
-                .iter()
-                .map(|s| SegmentState {
-                    from: s.from,
-                    to: s.to,
-                    link: s.link,
-                    part: s.part,
-                    radius: s.radius,
-                })
-                .collect(),
-        },
+        skeleton: skeleton_state(sk),
         obstacles,
         control_points,
-        uncertainty: w
-            .state
-            .sensed
-            .obstacles
-            .iter()
-            .filter(|o| o.margin > 0.0)
-            .map(|o| Uncertainty {
-                obstacle: o.spec.id.clone(),
-                radius: o.margin,
-                sigma: o.covariance.variance_along(glam::DVec3::X).sqrt(),
-                switch_probability: o.switch.probability,
-                segment: o.switch.segment,
-                alternative: o.switch.alternative,
-                part_margins: (!o.part_margins.is_empty()).then(|| {
-                    crate::human::PART_NAMES
-                        .iter()
-                        .zip(&o.part_margins)
-                        .map(|(n, m)| ((*n).to_owned(), *m))
-                        .collect()
-                }),
-            })
-            .collect(),
+        uncertainty: uncertainty_out(&w.state),
         command: w.data.request.clone(),
         command_sigma,
         events: w
@@ -328,6 +267,78 @@ pub(super) fn state_since(w: &World, cursor: usize) -> WorldState {
         stopped: w.state.stop.stopped,
         sliding_points: sliding_points(w),
     }
+}
+
+/// The obstacles at their true pose now, with their parts.
+fn obstacles_out(state: &State) -> Vec<ObstacleStateOut> {
+    state
+        .sensed
+        .obstacles
+        .iter()
+        .map(|o| {
+            let offset = o.offset(state.t);
+            let shape = translated(&o.spec.shape, offset);
+            let parts = match (&shape, &o.human) {
+                (ShapeSpec::Primitive(p), _) => vec![p.clone()],
+                (ShapeSpec::Human(_), Some(h)) => h
+                    .posed_at(state.t, offset, glam::DVec3::ZERO)
+                    .parts
+                    .into_iter()
+                    .map(|p| p.shape)
+                    .collect(),
+                (ShapeSpec::Human(h), None) => h.parts(),
+            };
+            ObstacleStateOut {
+                id: o.spec.id.clone(),
+                shape,
+                parts,
+            }
+        })
+        .collect()
+}
+
+/// The skeleton's nodes and segments.
+fn skeleton_state(sk: &Skeleton) -> SkeletonState {
+    SkeletonState {
+        nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
+        segments: sk
+            .segments
+            .iter()
+            .map(|s| SegmentState {
+                from: s.from,
+                to: s.to,
+                link: s.link,
+                part: s.part,
+                radius: s.radius,
+            })
+            .collect(),
+    }
+}
+
+/// The sensing margin, switch risk and part margins of each obstacle
+/// sensed with error.
+fn uncertainty_out(state: &State) -> Vec<Uncertainty> {
+    state
+        .sensed
+        .obstacles
+        .iter()
+        .filter(|o| o.margin > 0.0)
+        .map(|o| Uncertainty {
+            obstacle: o.spec.id.clone(),
+            radius: o.margin,
+            sigma: o.covariance.variance_along(glam::DVec3::X).sqrt(),
+            switch_probability: o.switch.probability,
+            segment: o.switch.segment,
+            alternative: o.switch.alternative,
+            part_margins: (!o.part_margins.is_empty()).then(|| {
+                crate::human::PART_NAMES
+                    .iter()
+                    .zip(&o.part_margins)
+                    .map(|(n, m)| ((*n).to_owned(), *m))
+                    .collect()
+            }),
+        })
+        .collect()
 }
 
 /// Where each point task's sliding point is at the current time.

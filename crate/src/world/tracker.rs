@@ -1,4 +1,4 @@
-//! The *transition* and *monitor* stages of a [`World`] step: each control
+//! The *transition* and *monitor* stages of a [`super::World`] step: each control
 //! point follows its selected point (travelling along the skeleton when it
 //! jumps, [`MovingPoint`]), segment switches are counted, chattering locks
 //! the point or stops the arm, and the sensing error's switch risk is
