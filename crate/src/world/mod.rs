@@ -2,13 +2,13 @@
 //! monitor, stepped interactively ([`World`]) or run to the end of a
 //! scenario ([`simulate`]).
 //!
-//! `World` is, Pinocchio/MuJoCo style, a [`parts::Model`] (the scenario
+//! `World` is, Pinocchio/MuJoCo style, a `Model` (the scenario
 //! with its configuration, the robot, the link pairs left out: what no
-//! step changes), a [`parts::State`] (what the next step needs: `q`, the
+//! step changes), a `State` (what the next step needs: `q`, the
 //! joint motion, `t`, the obstacles as sensed and their scene, the
 //! control points' trackers, the monitors, the stop), a
-//! [`parts::StepData`] (what one step computes: frames, skeleton, guards,
-//! request, QP workspace, readouts) and a [`parts::EventLog`]
+//! `StepData` (what one step computes: frames, skeleton, guards,
+//! request, QP workspace, readouts) and an `EventLog`
 //! (`world/parts.rs`, which says where each borderline field lives and
 //! why). One [`World::step`] runs the control step as named stages, each
 //! a free function over those parts in the file named after it, called in
@@ -105,7 +105,7 @@ enum StopReason {
 }
 
 /// A simulation that steps on demand and accepts edits: the model, the
-/// state, the last step's data and the event log ([`parts`]).
+/// state, the last step's data and the event log (`world/parts.rs`).
 #[derive(Clone, Debug)]
 pub struct World {
     model: Model,

@@ -6,7 +6,7 @@
 //! the influence distance with its protective bound, its damper (in the
 //! `constraints` avoidance) and, for an obstacle closing in faster than
 //! the arm could stop, the escape the joints can still make
-//! ([`crate::avoidance::protect::Guard::escape`]). After the controller, [`protect`] projects
+//! ([`crate::avoidance::protect::Guard::escape`]). After the controller, [`protect()`] projects
 //! the request onto the protective bounds (a no-op for the `constraints`
 //! avoidance, whose request already meets them) and stops the arm when no
 //! admissible motion keeps a pair safe. The arithmetic of the bounds lives
