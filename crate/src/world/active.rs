@@ -158,18 +158,8 @@ fn visit(
     out: &mut Collected,
 ) -> Result<(), FieldError> {
     let cfg = &model.scenario.controller;
-    let Placed {
-        dh,
-        prev,
-        remaining,
-        selected_at,
-        was_slow,
-        position,
-        owner,
-        dist,
-        normal,
-        ..
-    } = p;
+    let (dh, prev, remaining, selected_at) = (p.dh, p.prev, p.remaining, p.selected_at);
+    let (position, owner, dist, normal) = (p.position, p.owner, p.dist, p.normal);
     let margin = owner.map_or(0.0, |o| state.sensed.margin_near(o, position));
     let effective = dist - margin;
     let ap = ActivePoint {
@@ -187,7 +177,7 @@ fn visit(
     let name = point_name(now, key, owner);
     let at = selected_at.filter(|_| remaining > 0.0);
     let (ttc, closing, ttc_normal) =
-        time_to_collision_at(now, key, at, owner, (dh, normal, effective), prev, dt)?;
+        time_to_collision_at(now, (key, at, owner), (dh, normal, effective), prev, dt)?;
     out.min_ttc = out.min_ttc.min(ttc);
     let approach = Approach {
         owner,
@@ -199,7 +189,7 @@ fn visit(
         remaining,
         braking,
         closing,
-        was_slow,
+        was_slow: p.was_slow,
     };
     monitor_transition(model, state, data, log, key, &approach);
     record(Now { model, state, data }, out, &p, (ap, gain, name));

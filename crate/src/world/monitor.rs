@@ -74,9 +74,7 @@ pub(super) fn monitor_transition(
 /// from the previous step's `prev`, and the normal it was measured along.
 pub(super) fn time_to_collision_at(
     now: Now<'_>,
-    key: &Key,
-    at: Option<SkeletonPoint>,
-    owner: Option<usize>,
+    (key, at, owner): (&Key, Option<SkeletonPoint>, Option<usize>),
     here: (DhPoint, DVec3, f64),
     prev: Option<f64>,
     dt: f64,
