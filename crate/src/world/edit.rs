@@ -17,7 +17,9 @@ use crate::scenario::{
 
 impl World {
     pub(super) fn index_of(&self, id: &str) -> Result<usize, FieldError> {
-        self.obstacles
+        self.state
+            .sensed
+            .obstacles
             .iter()
             .position(|o| o.spec.id == id)
             .ok_or_else(|| FieldError::new("id", format!("no obstacle \"{id}\"")))
@@ -30,14 +32,20 @@ impl World {
     /// the world is unchanged.
     pub fn add_obstacle(&mut self, spec: ObstacleSpec) -> Result<(), ScenarioError> {
         spec.validate()?;
-        if self.obstacles.iter().any(|o| o.spec.id == spec.id) {
+        if self
+            .state
+            .sensed
+            .obstacles
+            .iter()
+            .any(|o| o.spec.id == spec.id)
+        {
             return Err(FieldError::new("id", format!("\"{}\" is already used", spec.id)).into());
         }
-        let k = self.obstacles.len();
-        let state = ObstacleState::new(spec.clone(), &self.scenario, k)?;
-        self.obstacles.push(state);
-        self.scenario.obstacles.push(spec);
-        self.scene_dirty = true;
+        let k = self.state.sensed.obstacles.len();
+        let state = ObstacleState::new(spec.clone(), &self.model.scenario, k)?;
+        self.state.sensed.obstacles.push(state);
+        self.model.scenario.obstacles.push(spec);
+        self.state.sensed.dirty = true;
         Ok(())
     }
 
@@ -47,10 +55,10 @@ impl World {
     /// `id: no obstacle "x"`; the world is unchanged.
     pub fn remove_obstacle(&mut self, id: &str) -> Result<(), ScenarioError> {
         let k = self.index_of(id)?;
-        self.obstacles.remove(k);
-        self.scenario.obstacles.remove(k);
+        self.state.sensed.obstacles.remove(k);
+        self.model.scenario.obstacles.remove(k);
         // Trackers refer to obstacles by index: renumber.
-        let old = std::mem::take(&mut self.trackers);
+        let old = std::mem::take(&mut self.state.trackers);
         for (key, mut tr) in old {
             let shift = |o: usize| renumber(o, k);
             let new_key = match key {
@@ -60,13 +68,20 @@ impl World {
             };
             if let Some(nk) = new_key {
                 tr.owner = tr.owner.and_then(shift);
-                self.trackers.insert(nk, tr);
+                self.state.trackers.insert(nk, tr);
             }
         }
-        self.risky = self.risky.iter().filter_map(|&o| renumber(o, k)).collect();
+        self.state.risky = self
+            .state
+            .risky
+            .iter()
+            .filter_map(|&o| renumber(o, k))
+            .collect();
         // The last step's noisy control points, read with the state: those
         // answering the removed obstacle answer nothing now.
-        self.sigma_inputs
+        self.data
+            .propagation
+            .sigma_inputs
             .retain_mut(|input| match renumber(input.owner, k) {
                 Some(o) => {
                     input.owner = o;
@@ -76,8 +91,8 @@ impl World {
             });
         // The protective layer's pairs name scene parts, which renumber
         // too: the next step guards afresh.
-        self.guard_pairs.clear();
-        self.scene_dirty = true;
+        self.data.guard.pairs.clear();
+        self.state.sensed.dirty = true;
         Ok(())
     }
 
@@ -89,17 +104,17 @@ impl World {
         let k = self.index_of(id)?;
         let parts = primitives(&shape).map_err(|e| e.within("shape"))?;
         let human = super::obstacles::human_of(&shape)?;
-        let o = &mut self.obstacles[k];
+        let o = &mut self.state.sensed.obstacles[k];
         let moved = reference_point(&shape) - o.reference;
         if moved != DVec3::ZERO && o.spec.motion.is_none() {
-            o.dragged = super::obstacles::drag_velocity(o.dragged, moved, self.t);
+            o.dragged = super::obstacles::drag_velocity(o.dragged, moved, self.state.t);
         }
         o.reference = reference_point(&shape);
         o.parts = parts;
         o.human = human;
         o.spec.shape = shape.clone();
-        self.scenario.obstacles[k].shape = shape;
-        self.scene_dirty = true;
+        self.model.scenario.obstacles[k].shape = shape;
+        self.state.sensed.dirty = true;
         Ok(())
     }
 
@@ -110,7 +125,7 @@ impl World {
     pub fn translate_obstacle(&mut self, id: &str, delta: DVec3) -> Result<(), ScenarioError> {
         let k = self.index_of(id)?;
         crate::error::finite3("position", delta)?;
-        let shape = translated(&self.obstacles[k].spec.shape, delta);
+        let shape = translated(&self.state.sensed.obstacles[k].spec.shape, delta);
         self.set_obstacle_shape(id, shape)
     }
 
@@ -126,8 +141,8 @@ impl World {
     ) -> Result<(), ScenarioError> {
         let k = self.index_of(id)?;
         crate::error::finite3("position", position)?;
-        let o = &self.obstacles[k];
-        let now = o.reference + o.offset(self.t);
+        let o = &self.state.sensed.obstacles[k];
+        let now = o.reference + o.offset(self.state.t);
         self.translate_obstacle(id, position - now)
     }
 
@@ -137,17 +152,17 @@ impl World {
     /// An invalid value (`influenceDistance: must be > 0`); the world is
     /// unchanged.
     pub fn set_controller(&mut self, config: ControllerConfig) -> Result<(), ScenarioError> {
-        validate_controller(&config, &self.robot).map_err(|e| e.within("controller"))?;
-        if config.self_collision_exclude != self.scenario.controller.self_collision_exclude {
-            self.adjacency = super::self_pairs_left_out(&self.robot, &config)
+        validate_controller(&config, &self.model.robot).map_err(|e| e.within("controller"))?;
+        if config.self_collision_exclude != self.model.scenario.controller.self_collision_exclude {
+            self.model.adjacency = super::self_pairs_left_out(&self.model.robot, &config)
                 .map_err(|e| e.within("controller"))?;
         }
-        if config.selection != self.scenario.controller.selection
-            || config.pinned != self.scenario.controller.pinned
+        if config.selection != self.model.scenario.controller.selection
+            || config.pinned != self.model.scenario.controller.pinned
         {
-            self.trackers.clear();
+            self.state.trackers.clear();
         }
-        self.scenario.controller = config;
+        self.model.scenario.controller = config;
         Ok(())
     }
 
@@ -160,7 +175,7 @@ impl World {
         &self,
         partial: &serde_json::Value,
     ) -> Result<ControllerConfig, ScenarioError> {
-        let mut base = serde_json::to_value(&self.scenario.controller)
+        let mut base = serde_json::to_value(&self.model.scenario.controller)
             .map_err(|e| FieldError::new("controller", e.to_string()))?;
         merge_json(&mut base, partial);
         let cfg: ControllerConfig = serde_path_to_error::deserialize(base).map_err(|e| {
@@ -176,16 +191,18 @@ impl World {
     /// # Errors
     /// Non-finite input or a zero direction.
     pub fn pick(&self, origin: DVec3, direction: DVec3) -> Result<Option<Pick>, ScenarioError> {
-        let scene = self.clone_scene_at(self.t);
+        let scene = self.state.sensed.clone_scene_at(self.state.t);
         let hit = scene.pick(origin, direction, PICK_RADIUS)?;
         let mut owners = Vec::new();
-        for (k, o) in self.obstacles.iter().enumerate() {
+        for (k, o) in self.state.sensed.obstacles.iter().enumerate() {
             owners.extend((0..o.parts.len()).map(|i| (k, i)));
         }
         Ok(hit.and_then(|h| {
             owners.get(h.id as usize).map(|&(k, i)| Pick {
-                id: self.obstacles[k].spec.id.clone(),
-                part: self.obstacles[k].part_name(i).map(str::to_owned),
+                id: self.state.sensed.obstacles[k].spec.id.clone(),
+                part: self.state.sensed.obstacles[k]
+                    .part_name(i)
+                    .map(str::to_owned),
                 point: h.point.to_array(),
                 distance: h.distance,
             })
@@ -212,13 +229,13 @@ impl World {
         if direction.try_normalize().is_none() {
             return Err(FieldError::new("direction", "must not be zero").into());
         }
-        let Some(hit) = self.skeleton.ray_hit(origin, direction, PICK_RADIUS) else {
+        let Some(hit) = self.data.skeleton.ray_hit(origin, direction, PICK_RADIUS) else {
             return Ok(None);
         };
         let dh = DhPoint::from_skeleton(
-            &self.robot,
-            &self.frames,
-            &self.skeleton,
+            &self.model.robot,
+            &self.data.frames,
+            &self.data.skeleton,
             hit.segment,
             hit.t,
         )?;
@@ -227,7 +244,7 @@ impl World {
             d: dh.d,
             a: dh.a,
             segment: hit.segment,
-            position: dh.position(&self.robot, &self.frames).to_array(),
+            position: dh.position(&self.model.robot, &self.data.frames).to_array(),
             distance: hit.distance,
             offset: hit.offset,
             radius: hit.radius,
@@ -241,8 +258,7 @@ impl World {
     /// # Errors
     /// An invalid figure.
     pub fn clearance_to(&self, shape: &ShapeSpec) -> Result<f64, ScenarioError> {
-        Ok(self
-            .pairs_with(shape)?
+        Ok(super::uncertainty::pairs_with(self, shape)?
             .iter()
             .map(|p| p.distance)
             .fold(f64::INFINITY, f64::min))
@@ -251,7 +267,7 @@ impl World {
     /// Back to `t = 0` and `q0` with the obstacles and controller as edited;
     /// events, control points and sensing streams start afresh.
     pub fn reset(&mut self) {
-        let scenario = self.scenario.clone();
+        let scenario = self.model.scenario.clone();
         if let Ok(w) = Self::new(scenario) {
             *self = w;
         }

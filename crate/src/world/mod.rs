@@ -2,21 +2,36 @@
 //! monitor, stepped interactively ([`World`]) or run to the end of a
 //! scenario ([`simulate`]).
 //!
-//! `World` holds the state; one [`World::step`] runs the control step as a
-//! pipeline of named stages, each a function of the module named after its
-//! part of the paper (the stages are called from `world/step.rs`):
+//! `World` is, Pinocchio/MuJoCo style, a `Model` (the scenario
+//! with its configuration, the robot, the link pairs left out: what no
+//! step changes), a `State` (what the next step needs: `q`, the
+//! joint motion, `t`, the obstacles as sensed and their scene, the
+//! control points' trackers, the monitors, the stop), a
+//! `StepData` (what one step computes: frames, skeleton, guards,
+//! request, QP workspace, readouts) and an `EventLog`
+//! (`world/parts.rs`, which says where each borderline field lives and
+//! why). One [`World::step`] runs the control step as named stages, each
+//! a free function over those parts in the file named after it, called in
+//! order from `world/step.rs`; every stage borrows the configuration from
+//! the model (it is never copied):
 //!
 //! | # | stage | where | paper |
 //! |---|---|---|---|
-//! | 1 | **sense**: obstacles at `t`, then as sensed (bias, bounded error, white and correlated noise, latency) and each obstacle's margin | `world/obstacles.rs`, [`crate::dependability::SensorModel`] | §IV |
-//! | 2 | **scene query**: forward kinematics, skeleton, every segment against every obstacle within reach (and non-adjacent links against each other) | [`crate::kinematics`], [`crate::skeleton`], [`crate::distance::Scene::query`] | §II |
-//! | 3 | **select**: control points per pair / per obstacle / pinned / self | [`crate::avoidance::selection::select`] | §II, fig. 4 |
-//! | 4 | **transition**: each control point follows its selected point, travelling along the skeleton when it jumps | [`crate::transition::MovingPoint`] | §III-B |
-//! | 5 | **monitor**: switch risk, chattering (stop or lock), time to collision, transitions too slow for the approach | [`crate::dependability`], `world/monitor.rs` | §IV |
-//! | 6 | **control**: repulsion and tasks → requested joint velocities | [`crate::avoidance::control`] | §III-A, eq. 4 |
-//! | 7 | **protect**: every pair's approach bounded so the arm can stop before contact | [`crate::avoidance::protect`] | — (ISO/TS 15066) |
-//! | 8 | **limit**: jerk-limited tracking within the joints' limits | [`crate::avoidance::limits`] | — |
-//! | 9 | **integrate**: `q += q̇ dt`, `t += dt` | `world/step.rs` | — |
+//! | 1 | **sense**: obstacles at `t`, then as sensed (bias, bounded error, white and correlated noise, latency) and each obstacle's margin | `world/sense.rs`, `world/obstacles.rs`, [`crate::dependability::SensorModel`] | §IV |
+//! | 2 | **scene query**: forward kinematics, skeleton, every segment against every obstacle within reach (and non-adjacent links against each other) | `world/query.rs`, [`crate::kinematics`], [`crate::skeleton`], [`crate::distance::Scene::query`] | §II |
+//! | 3 | **select**: control points per pair / per obstacle / pinned / self | `world/select.rs`, [`crate::avoidance::selection::select`] | §II, fig. 4 |
+//! | 4 | **transition**: each control point follows its selected point, travelling along the skeleton when it jumps; switch risk and chattering | `world/tracker.rs`, [`crate::transition::MovingPoint`] | §III-B, §IV |
+//! | 5 | **monitor**: the active points where they are, time to collision, transitions too slow for the approach | `world/active.rs`, `world/monitor.rs`, [`crate::dependability`] | §IV |
+//! | 6 | **control**: the guards, then repulsion and tasks → requested joint velocities | `world/protect.rs`, `world/control.rs`, [`crate::avoidance::control`] | §III-A, eq. 4 |
+//! | 7 | **protect**: every pair's approach bounded so the arm can stop before contact | `world/protect.rs`, [`crate::avoidance::protect`] | — (ISO/TS 15066) |
+//! | 8 | **limit**: jerk-limited tracking within the joints' limits | `world/limit.rs`, [`crate::avoidance::limits`] | — |
+//! | 9 | **integrate**: `q += q̇ dt`, `t += dt`; then the command monitor | `world/limit.rs`, `world/monitor.rs` | — |
+//!
+//! `impl World` is in this file (the constructor, the step and the
+//! readers, which call the free functions of `state.rs`, `readout.rs`,
+//! `probe.rs` and `uncertainty.rs`) and in `world/edit.rs` (the edits).
+//! `adjacency.rs` computes the link pairs the model leaves out, `run.rs`
+//! runs a scenario to its end, `start.rs` imports a URDF.
 //!
 //! A stop (chattering, or an unavoidable approach) is category 2: the
 //! request becomes zero, the protective layer stays on (asking no retreat),
@@ -28,41 +43,49 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use glam::DVec3;
-
 use crate::avoidance::limits::JointMotion;
-use crate::avoidance::protect::{Guard, GuardPair};
+use crate::avoidance::protect::Guard;
 use crate::avoidance::selection::Key;
-use crate::avoidance::{ActivePoint, ControllerConfig, TaskReference};
-use crate::dependability::{Event, EventKind};
-use crate::distance::{Primitive, PrimitiveSpec, Scene};
+use crate::dependability::{Event, PointSigma, SensingSpec};
+use crate::distance::{Primitive, Scene};
 use crate::error::FieldError;
 use crate::kinematics::{Frames, Robot};
-use crate::scenario::{ObstacleSpec, Scenario, ScenarioError, ShapeSpec, TaskSpec, Trace};
+use crate::scenario::{Sample, Scenario, ScenarioError, ShapeSpec};
 use crate::skeleton::Skeleton;
 
+mod active;
+mod adjacency;
 mod clock;
+mod control;
 mod edit;
-mod guard;
+mod limit;
 mod monitor;
 mod obstacles;
+mod parts;
 mod probe;
+mod protect;
+mod query;
 mod readout;
+mod run;
+mod select;
+mod sense;
 mod start;
 
+pub use run::{control_step_workload, simulate};
 pub use start::import_urdf;
 mod state;
 mod step;
-mod track;
+mod tracker;
 mod uncertainty;
 
+use adjacency::self_pairs_left_out;
 use obstacles::ObstacleState;
+use parts::{EventLog, GuardData, Model, Propagation, Readout, Sensed, State, StepData, StopState};
 pub use probe::{GuardedPair, StepProbe};
 pub use state::{
     ClosestHuman, ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick,
     SkeletonState, Uncertainty, WorldState,
 };
-use track::Tracker;
 pub use uncertainty::Risk;
 
 /// Events a live [`World`] keeps (the oldest half is dropped beyond this;
@@ -81,74 +104,14 @@ enum StopReason {
     Unavoidable,
 }
 
-/// A simulation that steps on demand and accepts edits.
+/// A simulation that steps on demand and accepts edits: the model, the
+/// state, the last step's data and the event log (`world/parts.rs`).
 #[derive(Clone, Debug)]
 pub struct World {
-    scenario: Scenario,
-    robot: Robot,
-    adjacency: Vec<Vec<bool>>,
-    q: Vec<f64>,
-    motion: JointMotion,
-    t: f64,
-    frames: Frames,
-    skeleton: Skeleton,
-    obstacles: Vec<ObstacleState>,
-    scene: Scene,
-    owners: Vec<usize>,
-    /// Obstacle `o`'s parts are scene parts `part_start[o]..part_start[o + 1]`.
-    part_start: Vec<usize>,
-    /// Per scene part: its index among its obstacle's parts, and its motion.
-    part_index: Vec<usize>,
-    part_motion: Vec<obstacles::PartMotion>,
-    scene_dirty: bool,
-    trackers: BTreeMap<Key, Tracker>,
-    risky: BTreeSet<usize>,
-    anchors: Vec<(DVec3, Option<glam::DQuat>)>,
-    references: Vec<TaskReference>,
-    guards: Vec<Guard>,
-    guard_pairs: Vec<GuardPair>,
-    request: Vec<f64>,
-    /// This step's first guard with no admissible escape, and by how much
-    /// the arm's approach exceeds its bound.
-    doomed: Option<(usize, f64)>,
-    /// Time within which the joints must be able to stop this step (s; `∞`
-    /// with no obstacle closing in): see [`guard`]'s `stop_time`.
-    stop_time: f64,
-    /// Whether the `constraints` avoidance dropped its dampers this step.
-    relaxed: bool,
-    qp: crate::avoidance::qp::Workspace,
-    command_monitor: monitor::CommandMonitor,
-    braking: bool,
-    stopped: bool,
-    stop_reason: Option<StopReason>,
-    stopped_until: f64,
-    unavoidable: BTreeSet<usize>,
-    events: Vec<Event>,
-    events_dropped: usize,
-    keep_all_events: bool,
-    points: Vec<ControlPointState>,
-    min_clearance: Option<f64>,
-    /// The human part (`id:part`) of the pair at `min_clearance`, if a
-    /// human's.
-    closest_part: Option<String>,
-    /// The human part (`id:part`) nearest the arm and its clearance (m),
-    /// whatever pair is closest overall.
-    closest_human: Option<(String, f64)>,
-    time_to_collision: Option<f64>,
-    /// Per obstacle, the factor on the arm's allowed approach speed when a
-    /// transition plus braking would not end before contact (1: none).
-    slowdown: Vec<f64>,
-    /// The last step's active points and, for the control points that
-    /// answer an obstacle sensed with error, what their propagation needs
-    /// (computed when the state is read: [`World::propagation`]).
-    active: Vec<ActivePoint>,
-    sigma_inputs: Vec<uncertainty::SigmaInput>,
-    step_t: f64,
-    step_qdot: Vec<f64>,
-    step_dt: f64,
-    step_q: Vec<f64>,
-    /// Counts equal steps so that `t` is `k·dt` without rounding drift.
-    clock: clock::Clock,
+    model: Model,
+    state: State,
+    data: StepData,
+    log: EventLog,
 }
 
 fn err(e: FieldError) -> ScenarioError {
@@ -198,108 +161,98 @@ impl World {
         let anchors = scenario.task.anchors(&robot, &frames);
         let n = robot.dof();
         let mut w = Self {
-            scenario,
-            robot,
-            adjacency,
-            q,
-            motion: JointMotion::rest(n),
-            t: 0.0,
-            frames,
-            skeleton,
-            obstacles,
-            scene: Scene::default(),
-            owners: Vec::new(),
-            part_start: Vec::new(),
-            part_index: Vec::new(),
-            part_motion: Vec::new(),
-            scene_dirty: true,
-            trackers: BTreeMap::new(),
-            risky: BTreeSet::new(),
-            anchors,
-            references: Vec::new(),
-            guards: Vec::new(),
-            guard_pairs: Vec::new(),
-            request: Vec::new(),
-            doomed: None,
-            stop_time: f64::INFINITY,
-            relaxed: false,
-            qp: crate::avoidance::qp::Workspace::default(),
-            command_monitor: monitor::CommandMonitor::default(),
-            braking: false,
-            stopped: false,
-            stop_reason: None,
-            stopped_until: 0.0,
-            unavoidable: BTreeSet::new(),
-            events: Vec::new(),
-            events_dropped: 0,
-            keep_all_events: false,
-            points: Vec::new(),
-            min_clearance: None,
-            closest_part: None,
-            closest_human: None,
-            time_to_collision: None,
-            slowdown: Vec::new(),
-            active: Vec::new(),
-            sigma_inputs: Vec::new(),
-            step_t: 0.0,
-            step_qdot: Vec::new(),
-            step_dt: 0.0,
-            step_q: Vec::new(),
-            clock: clock::Clock::default(),
+            model: Model {
+                scenario,
+                robot,
+                adjacency,
+            },
+            state: State {
+                q,
+                motion: JointMotion::rest(n),
+                t: 0.0,
+                clock: clock::Clock::default(),
+                anchors,
+                sensed: Sensed {
+                    obstacles,
+                    scene: Scene::default(),
+                    owners: Vec::new(),
+                    part_start: Vec::new(),
+                    part_index: Vec::new(),
+                    part_motion: Vec::new(),
+                    dirty: true,
+                },
+                trackers: BTreeMap::new(),
+                risky: BTreeSet::new(),
+                stop: StopState::default(),
+            },
+            data: StepData {
+                frames,
+                skeleton,
+                references: Vec::new(),
+                slowdown: Vec::new(),
+                request: Vec::new(),
+                guard: GuardData {
+                    stop_time: f64::INFINITY,
+                    ..GuardData::default()
+                },
+                readout: Readout::default(),
+                propagation: Propagation::default(),
+            },
+            log: EventLog::default(),
         };
-        let dt = w.scenario.dt;
-        w.rebuild_scene(0.0, false, dt);
+        let dt = w.model.scenario.dt;
+        w.state.sensed.rebuild_scene(0.0, false, dt);
         Ok(w)
     }
 
     /// The scenario as edited so far.
     #[must_use]
     pub fn scenario(&self) -> &Scenario {
-        &self.scenario
+        &self.model.scenario
     }
 
     /// The robot.
     #[must_use]
     pub fn robot(&self) -> &Robot {
-        &self.robot
+        &self.model.robot
     }
 
     /// Simulation time (s).
     #[must_use]
     pub fn time(&self) -> f64 {
-        self.t
+        self.state.t
     }
 
     /// Joint values.
     #[must_use]
     pub fn q(&self) -> &[f64] {
-        &self.q
+        &self.state.q
     }
 
     /// The frames at the current `q`.
     #[must_use]
     pub fn frames(&self) -> &Frames {
-        &self.frames
+        &self.data.frames
     }
 
     /// The skeleton at the current `q`.
     #[must_use]
     pub fn skeleton(&self) -> &Skeleton {
-        &self.skeleton
+        &self.data.skeleton
     }
 
     /// The active control points of the last step.
     #[must_use]
     pub fn control_points(&self) -> &[ControlPointState] {
-        &self.points
+        &self.data.readout.points
     }
 
     /// The obstacles' primitives at their true pose now, with their ids.
     #[must_use]
     pub fn obstacle_primitives(&self) -> Vec<(String, Primitive)> {
         let mut out = Vec::new();
-        for o in &self.obstacles {
-            let off = o.offset(self.t);
+        for o in &self.state.sensed.obstacles {
+            let off = o.offset(self.state.t);
             for p in &o.parts {
                 out.push((o.spec.id.clone(), p.translated(off)));
             }
@@ -310,319 +263,134 @@ impl World {
     /// The events kept (every event so far, up to [`MAX_EVENTS`]).
     #[must_use]
     pub fn events(&self) -> &[Event] {
-        &self.events
+        &self.log.events
     }
 
     /// Number of events since the start (or the last reset), including
     /// those no longer kept: the cursor for [`World::state_since`].
     #[must_use]
     pub fn event_count(&self) -> usize {
-        self.events_dropped + self.events.len()
+        self.log.dropped + self.log.events.len()
     }
 
     /// Whether the monitor is stopping the robot (or holding it stopped).
     #[must_use]
     pub fn is_stopped(&self) -> bool {
-        self.stopped
+        self.state.stop.stopped
     }
 
     /// The protective layer's guards of the last step.
     #[must_use]
     pub fn guards(&self) -> &[Guard] {
-        &self.guards
+        &self.data.guard.guards
     }
 
     /// Joint velocities and accelerations.
     #[must_use]
     pub fn motion(&self) -> &JointMotion {
-        &self.motion
+        &self.state.motion
     }
 
-    pub(super) fn push(&mut self, kind: EventKind) {
-        self.events.push(Event { t: self.t, kind });
+    /// A snapshot of everything a viewer needs, with every event kept (a
+    /// viewer polling each frame should use [`World::state_since`]).
+    #[must_use]
+    pub fn state(&self) -> WorldState {
+        self.state_since(0)
     }
 
-    pub(super) fn name(&self, key: &Key) -> String {
-        match key {
-            Key::Obstacle(o) | Key::Pair(o, _) => self.obstacles[*o].spec.id.clone(),
-            Key::Pinned(k) => format!("pinned:{k}"),
-            Key::SelfPair(_, other) => format!("self:{}", self.skeleton.segments[*other].link),
-        }
+    /// [`World::state`] with only the events from number `cursor` on (the
+    /// [`World::event_count`] when the caller last read them).
+    #[must_use]
+    pub fn state_since(&self, cursor: usize) -> WorldState {
+        state::state_since(self, cursor)
+    }
+
+    /// One trace sample: the time, joints, clearance and control points the
+    /// last step acted on.
+    #[must_use]
+    pub fn sample(&self) -> Sample {
+        state::sample(self)
+    }
+
+    /// Joint velocities now (rad/s or m/s), in the order of `q`.
+    #[must_use]
+    pub fn qdot(&self) -> &[f64] {
+        readout::qdot(self)
+    }
+
+    /// [`World::clearance_of`] every obstacle now, by id (infinite ones
+    /// left out: a robot without segments).
+    #[must_use]
+    pub fn clearances(&self) -> std::collections::BTreeMap<String, f64> {
+        readout::clearances(self)
+    }
+
+    /// Clearance (m) between the arm's volumes and obstacle `id` at its
+    /// current (true) pose; negative by the penetration depth when they
+    /// overlap, infinite for a robot without segments.
+    ///
+    /// # Errors
+    /// `id: no obstacle "…"` for an unknown id.
+    pub fn clearance_of(&self, id: &str) -> Result<f64, ScenarioError> {
+        readout::clearance_of(self, id)
+    }
+
+    /// The numbers a Monte Carlo study keeps of the last step, read from
+    /// the world without building its state.
+    #[must_use]
+    pub fn probe(&self) -> StepProbe {
+        probe::probe(self)
+    }
+
+    /// The pairs the protective layer guarded at the last step, with the
+    /// speed of the part that approaches and the protective distance it
+    /// asks (empty when the protective layer is off, and after an obstacle
+    /// is removed until the next step).
+    #[must_use]
+    pub fn guarded(&self) -> Vec<GuardedPair> {
+        probe::guarded(self)
+    }
+
+    /// The first-order standard deviations of the last step: per control
+    /// point (in the order of the state's control points, `None` for those
+    /// answering nothing noisy) and per joint command (`None` when no
+    /// control point answers a noisy obstacle).
+    #[must_use]
+    pub fn propagation(&self) -> (Vec<Option<PointSigma>>, Option<Vec<f64>>) {
+        uncertainty::propagation(self)
+    }
+
+    /// What an obstacle of figure `shape` sensed with `sensing` would face
+    /// with the arm where it is: its clearance and the probability that
+    /// its closest segment, as sensed, differs from the ideal one — one
+    /// cell of a risk map (the picture the paper's fig. 4 asks for). A
+    /// human's `partSigma` adds its largest part's σ.
+    ///
+    /// # Errors
+    /// An invalid figure (`shape…`) or sensing (`sensing.…`).
+    pub fn risk_at(&self, shape: &ShapeSpec, sensing: &SensingSpec) -> Result<Risk, ScenarioError> {
+        uncertainty::risk_at(self, shape, sensing)
+    }
+
+    /// Advances the simulation by `dt` seconds (one control step). A
+    /// non-finite or non-positive `dt` does nothing.
+    pub fn step(&mut self, dt: f64) {
+        step::step(
+            &self.model,
+            &mut self.state,
+            &mut self.data,
+            &mut self.log,
+            dt,
+        );
     }
 }
 
-/// Links that never repel each other: two hops of [`Robot::adjacent`]
-/// (the one definition of adjacent links: their segments share a skeleton
-/// node). A link is also kept from its neighbour's neighbours because a
-/// short link between two long ones keeps their volumes overlapping at the
-/// joint. Rows without segments never meet in the query, so the pairs they
-/// add through two hops (their parent's other children, already adjacent)
-/// change nothing.
-fn link_adjacency(robot: &Robot) -> Vec<Vec<bool>> {
-    let n = robot.dof() + 1;
-    let direct: Vec<Vec<bool>> = (0..n)
-        .map(|i| (0..n).map(|j| robot.adjacent(i, j)).collect())
-        .collect();
-    (0..n)
-        .map(|i| {
-            (0..n)
-                .map(|j| direct[i][j] || (0..n).any(|k| direct[i][k] && direct[k][j]))
-                .collect()
-        })
-        .collect()
-}
-
-/// Which pairs of links the self-collision query leaves out: adjacent links
-/// ([`link_adjacency`]), the robot's and the controller's
-/// `selfCollisionExclude`, and pairs no joint can move apart or together
-/// ([`fixed_link_pairs`]).
-pub(super) fn self_pairs_left_out(
-    robot: &Robot,
-    controller: &ControllerConfig,
-) -> Result<Vec<Vec<bool>>, FieldError> {
-    let mut adjacency = link_adjacency(robot);
-    let chosen = robot.link_pairs(
-        "controller.selfCollisionExclude",
-        &controller.self_collision_exclude,
-    )?;
-    for (a, b) in robot
-        .exclude
-        .iter()
-        .chain(&chosen)
-        .copied()
-        .chain(fixed_link_pairs(robot))
-    {
-        adjacency[a][b] = true;
-        adjacency[b][a] = true;
-    }
-    Ok(adjacency)
-}
-
-/// Pairs of links whose segments keep the same distance whatever the
-/// joints do (e.g. the Panda's column and the link carrying the shoulder's
-/// offset, which only turn about axes through the column's top): no joint
-/// motion can change their clearance, so a guard or damper on them could
-/// only freeze the arm. Checked on the kinematics: the smallest distance
-/// between the two links' spines at 16 seeded configurations within the
-/// limits, fixed when it varies by less than 1 µm.
-fn fixed_link_pairs(robot: &Robot) -> Vec<(usize, usize)> {
-    use crate::distance::{LineSegment, Primitive, distance};
-    let n = robot.dof();
-    let mut rng = crate::rng::Rng::new(0x5e1f);
-    let mut spans: Vec<Vec<(f64, f64)>> =
-        vec![vec![(f64::INFINITY, f64::NEG_INFINITY); n + 1]; n + 1];
-    for _ in 0..16 {
-        let q: Vec<f64> = robot
-            .joints
-            .iter()
-            .map(|j| {
-                let (lo, hi) = (j.min.max(-3.0), j.max.min(3.0));
-                rng.range(lo, hi)
-            })
-            .collect();
-        let Ok(frames) = robot.forward(&q) else {
-            return Vec::new();
-        };
-        let skeleton = Skeleton::build(robot, &frames);
-        let segs: Vec<(usize, Option<LineSegment>)> = skeleton
-            .segments
-            .iter()
-            .map(|s| {
-                let (a, b) = skeleton.endpoints(s);
-                (s.link, LineSegment::new(a, b).ok())
-            })
-            .collect();
-        let mut closest = vec![vec![f64::INFINITY; n + 1]; n + 1];
-        for (i, (la, a)) in segs.iter().enumerate() {
-            for (lb, b) in &segs[i + 1..] {
-                if let (Some(a), Some(b)) = (a, b)
-                    && la != lb
-                    && let Ok(d) = distance(&Primitive::Segment(*a), &Primitive::Segment(*b))
-                {
-                    let (x, y) = ((*la).min(*lb), (*la).max(*lb));
-                    closest[x][y] = closest[x][y].min(d.distance);
-                }
-            }
-        }
-        for (x, row) in closest.iter().enumerate() {
-            for (y, d) in row.iter().enumerate().filter(|(_, d)| d.is_finite()) {
-                let span = &mut spans[x][y];
-                *span = (span.0.min(*d), span.1.max(*d));
-            }
-        }
-    }
-    let mut out = Vec::new();
-    for (x, row) in spans.iter().enumerate() {
-        for (y, (lo, hi)) in row.iter().enumerate() {
-            if lo.is_finite() && hi - lo < 1e-6 {
-                out.push((x, y));
-            }
-        }
-    }
-    out
-}
-
-/// Runs `scenario` from `t = 0` to its duration and returns the trace: a
-/// sample every `sampleEvery` steps from `t = 0` (`t = k·dt` exactly) and
-/// one at `t = duration`, then every event.
-///
-/// # Errors
-/// Whatever [`Scenario::validate`] reports.
-///
-/// # Example
-/// ```
-/// use skeleton_avoidance::{scenario, world};
-/// let trace = world::simulate(&scenario::example("planar-transition")?)?;
-/// assert!(!trace.samples.is_empty());
-/// # Ok::<(), skeleton_avoidance::scenario::ScenarioError>(())
-/// ```
-pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
-    let mut world = World::new(scenario.clone())?;
-    world.keep_all_events = true;
-    let steps = (scenario.duration / scenario.dt).round() as u64;
-    let every = scenario.sample_every.max(1) as u64;
-    let mut samples = Vec::new();
-    // A sample is the state a step acts on: the clearance to each obstacle
-    // is measured before the step, the rest comes from the step.
-    let take = |world: &mut World| {
-        let clearances = world.clearances();
-        world.step(scenario.dt);
-        let mut sample = world.sample();
-        sample.clearances = clearances;
-        sample
-    };
-    for k in 0..steps {
-        if k % every == 0 {
-            samples.push(take(&mut world));
-        } else {
-            world.step(scenario.dt);
-        }
-    }
-    // The sample at `t = duration`: one more control step evaluates the
-    // state there (clearances, control points); only its sample is kept,
-    // not its motion or its events.
-    let events = world.events.len();
-    samples.push(take(&mut world));
-    world.events.truncate(events);
-    Ok(Trace {
-        samples,
-        events: world.events,
-    })
-}
-
-/// The control-step benchmark's world: `lwr4` following a circular
-/// end-effector trajectory among `obstacles` static spheres (radius 5 cm)
-/// spread pseudo-randomly (seeded) over a 1.6 × 1.6 × 1.2 m box around it,
-/// at 1 kHz. Shared by the criterion bench and the wasm export so both time
-/// the same work.
-///
-/// # Errors
-/// None in practice (the scenario is valid by construction).
-pub fn control_step_workload(obstacles: usize) -> Result<World, ScenarioError> {
-    use crate::distance::SphereSpec;
-    let mut rng = crate::rng::Rng::new(11);
-    let obstacles = (0..obstacles)
-        .map(|k| ObstacleSpec {
-            id: format!("o{k}"),
-            shape: ShapeSpec::Primitive(PrimitiveSpec::Sphere(SphereSpec {
-                center: [
-                    rng.range(-0.8, 0.8),
-                    rng.range(-0.8, 0.8),
-                    rng.range(0.0, 1.2),
-                ],
-                radius: 0.05,
-            })),
-            motion: None,
-        })
-        .collect();
-    let points: Vec<[f64; 3]> = (0..=8)
-        .map(|k| {
-            let a = std::f64::consts::TAU * f64::from(k) / 8.0;
-            [
-                0.45 + 0.1 * crate::math::cos(a),
-                0.1 * crate::math::sin(a),
-                0.6,
-            ]
-        })
-        .collect();
-    let times = (0..=8).map(|k| 0.5 * f64::from(k)).collect();
-    let scenario = Scenario {
-        robot: crate::scenario::RobotRef::Preset("lwr4".to_owned()),
-        q0: Some(vec![0.0, 0.6, 0.0, -1.2, 0.0, 0.6, 0.0]),
-        obstacles,
-        task: TaskSpec::Trajectory {
-            points,
-            times,
-            chain: 0,
-        }
-        .into(),
-        controller: ControllerConfig::default(),
-        sensing: crate::scenario::SensingConfig::default(),
-        dependability: crate::dependability::DependabilityConfig::default(),
-        dt: 0.001,
-        duration: 4.0,
-        sample_every: 1,
-        camera: None,
-    };
-    World::new(scenario)
-}
-
-#[cfg(test)]
-mod tests {
-    #[cfg(target_arch = "wasm32")]
-    use wasm_bindgen_test::wasm_bindgen_test as test;
-
-    use super::*;
-    use crate::kinematics::presets;
-
-    /// Two hops of "segments share a node", read from the skeleton's nodes.
-    fn from_nodes(robot: &Robot, skeleton: &Skeleton) -> Vec<Vec<bool>> {
-        let n = robot.dof() + 1;
-        let mut direct = vec![vec![false; n]; n];
-        for (i, row) in direct.iter_mut().enumerate() {
-            row[i] = true;
-        }
-        for a in &skeleton.segments {
-            for b in &skeleton.segments {
-                if [a.from, a.to].iter().any(|x| *x == b.from || *x == b.to) {
-                    direct[a.link][b.link] = true;
-                }
-            }
-        }
-        let with_segments: Vec<bool> = (0..n)
-            .map(|l| skeleton.segments.iter().any(|s| s.link == l))
-            .collect();
-        (0..n)
-            .map(|i| {
-                (0..n)
-                    .map(|j| direct[i][j] || (0..n).any(|k| direct[i][k] && direct[k][j]))
-                    .collect::<Vec<_>>()
-            })
-            .enumerate()
-            .map(|(i, row)| {
-                // Only rows with segments meet in the query.
-                row.into_iter()
-                    .enumerate()
-                    .map(|(j, x)| x && with_segments[i] && with_segments[j])
-                    .collect()
-            })
-            .collect()
-    }
-
-    #[test]
-    fn the_robots_adjacency_is_the_one_the_skeleton_shows() {
-        for name in presets::NAMES {
-            let robot = Robot::from_spec(&presets::preset(name).unwrap()).unwrap();
-            let frames = robot.forward(&vec![0.2; robot.dof()]).unwrap();
-            let skeleton = Skeleton::build(&robot, &frames);
-            let expected = from_nodes(&robot, &skeleton);
-            let got = link_adjacency(&robot);
-            let links: Vec<usize> = skeleton.segments.iter().map(|s| s.link).collect();
-            for &i in &links {
-                for &j in &links {
-                    assert_eq!(got[i][j], expected[i][j], "{name}: links {i} and {j}");
-                }
-            }
-        }
+/// The obstacle a control point answers, as events and readouts name it
+/// (`pinned:<k>`, `self:<link>`).
+fn name(state: &State, data: &StepData, key: &Key) -> String {
+    match key {
+        Key::Obstacle(o) | Key::Pair(o, _) => state.sensed.obstacles[*o].spec.id.clone(),
+        Key::Pinned(k) => format!("pinned:{k}"),
+        Key::SelfPair(_, other) => format!("self:{}", data.skeleton.segments[*other].link),
     }
 }

@@ -1,4 +1,4 @@
-//! Obstacles of a [`World`]: their figure, motion and sensing model, the
+//! Obstacles of a [`super::World`]: their figure, motion and sensing model, the
 //! scene of the *sense* stage (obstacles at `t` as sensed, with the motion
 //! of every part) and distances from a point to one obstacle.
 //!
@@ -13,7 +13,7 @@
 
 use glam::DVec3;
 
-use super::World;
+use super::parts::Sensed;
 use crate::dependability::{Covariance, SensorModel};
 use crate::distance::{Obstacle, Primitive, Scene, distance};
 use crate::error::FieldError;
@@ -304,7 +304,7 @@ fn axis(p: &crate::distance::PrimitiveSpec) -> (DVec3, DVec3) {
     }
 }
 
-impl World {
+impl Sensed {
     /// The *sense* stage: the scene of the obstacles at time `t`, as sensed
     /// when `sensed` (seen `latency` late, displaced by their sensing
     /// errors), with the motion of every part (velocities from differences
@@ -343,7 +343,7 @@ impl World {
             }
         }
         self.scene = Scene::new(obstacles);
-        self.scene_dirty = false;
+        self.dirty = false;
         // `owners` is sorted: each obstacle's parts are one contiguous run.
         self.part_start.clear();
         self.part_start.resize(self.obstacles.len() + 1, 0);

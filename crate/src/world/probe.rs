@@ -52,70 +52,72 @@ pub struct StepProbe {
     pub transition_slack: Option<f64>,
 }
 
-impl World {
-    /// The numbers a Monte Carlo study keeps of the last step, read from
-    /// the world without building its state.
-    #[must_use]
-    pub fn probe(&self) -> StepProbe {
-        let joint_speed = self.motion.qdot.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        StepProbe {
-            min_clearance: self.min_clearance,
-            joint_speed,
-            transition_slack: self.transition_slack(),
-        }
+/// The body of [`World::probe`].
+pub(super) fn probe(w: &World) -> StepProbe {
+    let joint_speed = w
+        .state
+        .motion
+        .qdot
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    StepProbe {
+        min_clearance: w.data.readout.min_clearance,
+        joint_speed,
+        transition_slack: transition_slack(w),
     }
+}
 
-    /// The pairs the protective layer guarded at the last step, with the
-    /// speed of the part that approaches and the protective distance it
-    /// asks (empty when the protective layer is off, and after an obstacle
-    /// is removed until the next step).
-    #[must_use]
-    pub fn guarded(&self) -> Vec<GuardedPair> {
-        let p = self.scenario.controller.protective;
-        let dt = if self.step_dt > 0.0 {
-            self.step_dt
-        } else {
-            self.scenario.dt
-        };
-        let reach = p.reaction_time + braking_time(&self.robot, &self.motion, dt);
-        self.guard_pairs
-            .iter()
-            .map(|g| GuardedPair {
-                obstacle: g.obstacle.map_or_else(
-                    || format!("self:{}", self.skeleton.segments[g.segment].link),
-                    |o| self.obstacles[o].spec.id.clone(),
-                ),
-                part: g.part.and_then(|id| self.scene_part_name(id)),
-                segment: g.segment,
-                distance: g.distance,
-                margin: match (g.obstacle, g.part) {
-                    (Some(o), Some(id)) => self
-                        .part_index
-                        .get(id)
-                        .map_or(self.obstacles[o].margin, |&k| {
-                            self.obstacles[o].part_margin(k)
-                        }),
-                    (Some(o), None) => self.obstacles[o].margin,
-                    _ => 0.0,
-                },
-                approach_speed: g.obstacle_speed,
-                protective_distance: p.safety_distance + g.obstacle_speed.max(0.0) * reach,
-            })
-            .collect()
-    }
+/// The body of [`World::guarded`].
+pub(super) fn guarded(w: &World) -> Vec<GuardedPair> {
+    let p = w.model.scenario.controller.protective;
+    let dt = if w.data.propagation.dt > 0.0 {
+        w.data.propagation.dt
+    } else {
+        w.model.scenario.dt
+    };
+    let reach = p.reaction_time + braking_time(&w.model.robot, &w.state.motion, dt);
+    w.data
+        .guard
+        .pairs
+        .iter()
+        .map(|g| GuardedPair {
+            obstacle: g.obstacle.map_or_else(
+                || format!("w:{}", w.data.skeleton.segments[g.segment].link),
+                |o| w.state.sensed.obstacles[o].spec.id.clone(),
+            ),
+            part: g.part.and_then(|id| w.state.sensed.scene_part_name(id)),
+            segment: g.segment,
+            distance: g.distance,
+            margin: match (g.obstacle, g.part) {
+                (Some(o), Some(id)) => w
+                    .state
+                    .sensed
+                    .part_index
+                    .get(id)
+                    .map_or(w.state.sensed.obstacles[o].margin, |&k| {
+                        w.state.sensed.obstacles[o].part_margin(k)
+                    }),
+                (Some(o), None) => w.state.sensed.obstacles[o].margin,
+                _ => 0.0,
+            },
+            approach_speed: g.obstacle_speed,
+            protective_distance: p.safety_distance + g.obstacle_speed.max(0.0) * reach,
+        })
+        .collect()
+}
 
-    /// The step's smallest time to collision (as the monitor computed it)
-    /// minus the longest time a transition under way still needs. With
-    /// one active control point this is that point's own margin; with
-    /// several it is a lower bound of every travelling point's margin
-    /// (the smallest time to collision may belong to another point).
-    fn transition_slack(&self) -> Option<f64> {
-        let remaining = self
-            .trackers
-            .values()
-            .map(|tr| tr.mover.remaining())
-            .fold(0.0_f64, f64::max);
-        let ttc = self.time_to_collision?;
-        (remaining > 0.0).then_some(ttc - remaining)
-    }
+/// The step's smallest time to collision (as the monitor computed it)
+/// minus the longest time a transition under way still needs. With
+/// one active control point this is that point's own margin; with
+/// several it is a lower bound of every travelling point's margin
+/// (the smallest time to collision may belong to another point).
+fn transition_slack(w: &World) -> Option<f64> {
+    let remaining = w
+        .state
+        .trackers
+        .values()
+        .map(|tr| tr.mover.remaining())
+        .fold(0.0_f64, f64::max);
+    let ttc = w.data.readout.time_to_collision?;
+    (remaining > 0.0).then_some(ttc - remaining)
 }

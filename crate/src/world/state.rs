@@ -4,10 +4,12 @@
 use serde::Serialize;
 
 use super::World;
+use super::parts::State;
 use crate::control_point::{DhPoint, DhRow};
 use crate::dependability::{Event, PointSigma};
 use crate::distance::PrimitiveSpec;
 use crate::scenario::{Sample, ShapeSpec, TracePoint, translated};
+use crate::skeleton::Skeleton;
 
 /// An active control point in [`WorldState`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -216,155 +218,166 @@ pub struct SkeletonPick {
     pub radius: f64,
 }
 
-impl World {
-    /// A snapshot of everything a viewer needs, with every event kept (a
-    /// viewer polling each frame should use [`World::state_since`]).
-    #[must_use]
-    pub fn state(&self) -> WorldState {
-        self.state_since(0)
+/// The body of [`World::state_since`].
+pub(super) fn state_since(w: &World, cursor: usize) -> WorldState {
+    let sk = &w.data.skeleton;
+    let (sigmas, command_sigma) = w.propagation();
+    let mut control_points = w.data.readout.points.clone();
+    for (c, s) in control_points.iter_mut().zip(sigmas) {
+        c.sigma = s;
     }
+    for c in &mut control_points {
+        let point = DhPoint {
+            link: c.link,
+            d: c.d,
+            a: c.a,
+        };
+        c.table = point.table(&w.model.robot, &w.data.frames);
+    }
+    let obstacles = obstacles_out(&w.state);
+    WorldState {
+        t: w.state.t,
+        q: w.state.q.clone(),
+        qdot: w.state.motion.qdot.clone(),
+        qddot: w.state.motion.qddot.clone(),
+        min_clearance: w.data.readout.min_clearance,
+        closest_part: w.data.readout.closest_part.clone(),
+        closest_human: w
+            .data
+            .readout
+            .closest_human
+            .as_ref()
+            .map(|(part, distance)| ClosestHuman {
+                part: part.clone(),
+                distance: *distance,
+            }),
+        skeleton: skeleton_state(sk),
+        obstacles,
+        control_points,
+        uncertainty: uncertainty_out(&w.state),
+        command: w.data.request.clone(),
+        command_sigma,
+        events: w
+            .log
+            .events
+            .get(cursor.saturating_sub(w.log.dropped)..)
+            .unwrap_or(&[])
+            .to_vec(),
+        time_to_collision: w.data.readout.time_to_collision,
+        stopped: w.state.stop.stopped,
+        sliding_points: sliding_points(w),
+    }
+}
 
-    /// [`World::state`] with only the events from number `cursor` on (the
-    /// [`World::event_count`] when the caller last read them).
-    #[must_use]
-    pub fn state_since(&self, cursor: usize) -> WorldState {
-        let sk = &self.skeleton;
-        let (sigmas, command_sigma) = self.propagation();
-        let mut control_points = self.points.clone();
-        for (c, s) in control_points.iter_mut().zip(sigmas) {
-            c.sigma = s;
-        }
-        for c in &mut control_points {
-            let point = DhPoint {
+/// The obstacles at their true pose now, with their parts.
+fn obstacles_out(state: &State) -> Vec<ObstacleStateOut> {
+    state
+        .sensed
+        .obstacles
+        .iter()
+        .map(|o| {
+            let offset = o.offset(state.t);
+            let shape = translated(&o.spec.shape, offset);
+            let parts = match (&shape, &o.human) {
+                (ShapeSpec::Primitive(p), _) => vec![p.clone()],
+                (ShapeSpec::Human(_), Some(h)) => h
+                    .posed_at(state.t, offset, glam::DVec3::ZERO)
+                    .parts
+                    .into_iter()
+                    .map(|p| p.shape)
+                    .collect(),
+                (ShapeSpec::Human(h), None) => h.parts(),
+            };
+            ObstacleStateOut {
+                id: o.spec.id.clone(),
+                shape,
+                parts,
+            }
+        })
+        .collect()
+}
+
+/// The skeleton's nodes and segments.
+fn skeleton_state(sk: &Skeleton) -> SkeletonState {
+    SkeletonState {
+        nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
+        segments: sk
+            .segments
+            .iter()
+            .map(|s| SegmentState {
+                from: s.from,
+                to: s.to,
+                link: s.link,
+                part: s.part,
+                radius: s.radius,
+            })
+            .collect(),
+    }
+}
+
+/// The sensing margin, switch risk and part margins of each obstacle
+/// sensed with error.
+fn uncertainty_out(state: &State) -> Vec<Uncertainty> {
+    state
+        .sensed
+        .obstacles
+        .iter()
+        .filter(|o| o.margin > 0.0)
+        .map(|o| Uncertainty {
+            obstacle: o.spec.id.clone(),
+            radius: o.margin,
+            sigma: o.covariance.variance_along(glam::DVec3::X).sqrt(),
+            switch_probability: o.switch.probability,
+            segment: o.switch.segment,
+            alternative: o.switch.alternative,
+            part_margins: (!o.part_margins.is_empty()).then(|| {
+                crate::human::PART_NAMES
+                    .iter()
+                    .zip(&o.part_margins)
+                    .map(|(n, m)| ((*n).to_owned(), *m))
+                    .collect()
+            }),
+        })
+        .collect()
+}
+
+/// Where each point task's sliding point is at the current time.
+fn sliding_points(w: &World) -> Vec<[f64; 3]> {
+    w.model
+        .scenario
+        .task
+        .as_slice()
+        .iter()
+        .filter_map(|task| task.point_at(w.state.t))
+        .map(|(dh, _)| dh.position(&w.model.robot, &w.data.frames).to_array())
+        .collect()
+}
+
+/// The body of [`World::sample`].
+pub(super) fn sample(w: &World) -> Sample {
+    let (sigmas, command_sigma) = w.propagation();
+    Sample {
+        t: w.data.propagation.t,
+        q: w.data.propagation.q.clone(),
+        qdot: w.data.propagation.qdot.clone(),
+        clearances: std::collections::BTreeMap::new(),
+        min_clearance: w.data.readout.min_clearance,
+        control_points: w
+            .data
+            .readout
+            .points
+            .iter()
+            .zip(sigmas)
+            .map(|(c, sigma)| TracePoint {
+                position: c.position,
                 link: c.link,
                 d: c.d,
                 a: c.a,
-            };
-            c.table = point.table(&self.robot, &self.frames);
-        }
-        let obstacles = self
-            .obstacles
-            .iter()
-            .map(|o| {
-                let offset = o.offset(self.t);
-                let shape = translated(&o.spec.shape, offset);
-                let parts = match (&shape, &o.human) {
-                    (ShapeSpec::Primitive(p), _) => vec![p.clone()],
-                    (ShapeSpec::Human(_), Some(h)) => h
-                        .posed_at(self.t, offset, glam::DVec3::ZERO)
-                        .parts
-                        .into_iter()
-                        .map(|p| p.shape)
-                        .collect(),
-                    (ShapeSpec::Human(h), None) => h.parts(),
-                };
-                ObstacleStateOut {
-                    id: o.spec.id.clone(),
-                    shape,
-                    parts,
-                }
+                obstacle: c.obstacle.clone(),
+                distance: c.distance,
+                sigma,
             })
-            .collect();
-        WorldState {
-            t: self.t,
-            q: self.q.clone(),
-            qdot: self.motion.qdot.clone(),
-            qddot: self.motion.qddot.clone(),
-            min_clearance: self.min_clearance,
-            closest_part: self.closest_part.clone(),
-            closest_human: self
-                .closest_human
-                .as_ref()
-                .map(|(part, distance)| ClosestHuman {
-                    part: part.clone(),
-                    distance: *distance,
-                }),
-            skeleton: SkeletonState {
-                nodes: sk.nodes.iter().map(|n| n.to_array()).collect(),
-                segments: sk
-                    .segments
-                    .iter()
-                    .map(|s| SegmentState {
-                        from: s.from,
-                        to: s.to,
-                        link: s.link,
-                        part: s.part,
-                        radius: s.radius,
-                    })
-                    .collect(),
-            },
-            obstacles,
-            control_points,
-            uncertainty: self
-                .obstacles
-                .iter()
-                .filter(|o| o.margin > 0.0)
-                .map(|o| Uncertainty {
-                    obstacle: o.spec.id.clone(),
-                    radius: o.margin,
-                    sigma: o.covariance.variance_along(glam::DVec3::X).sqrt(),
-                    switch_probability: o.switch.probability,
-                    segment: o.switch.segment,
-                    alternative: o.switch.alternative,
-                    part_margins: (!o.part_margins.is_empty()).then(|| {
-                        crate::human::PART_NAMES
-                            .iter()
-                            .zip(&o.part_margins)
-                            .map(|(n, m)| ((*n).to_owned(), *m))
-                            .collect()
-                    }),
-                })
-                .collect(),
-            command: self.request.clone(),
-            command_sigma,
-            events: self
-                .events
-                .get(cursor.saturating_sub(self.events_dropped)..)
-                .unwrap_or(&[])
-                .to_vec(),
-            time_to_collision: self.time_to_collision,
-            stopped: self.stopped,
-            sliding_points: self.sliding_points(),
-        }
-    }
-
-    /// Where each point task's sliding point is at the current time.
-    fn sliding_points(&self) -> Vec<[f64; 3]> {
-        self.scenario
-            .task
-            .as_slice()
-            .iter()
-            .filter_map(|task| task.point_at(self.t))
-            .map(|(dh, _)| dh.position(&self.robot, &self.frames).to_array())
-            .collect()
-    }
-
-    /// One trace sample: the time, joints, clearance and control points the
-    /// last step acted on.
-    #[must_use]
-    pub fn sample(&self) -> Sample {
-        let (sigmas, command_sigma) = self.propagation();
-        Sample {
-            t: self.step_t,
-            q: self.step_q.clone(),
-            qdot: self.step_qdot.clone(),
-            clearances: std::collections::BTreeMap::new(),
-            min_clearance: self.min_clearance,
-            control_points: self
-                .points
-                .iter()
-                .zip(sigmas)
-                .map(|(c, sigma)| TracePoint {
-                    position: c.position,
-                    link: c.link,
-                    d: c.d,
-                    a: c.a,
-                    obstacle: c.obstacle.clone(),
-                    distance: c.distance,
-                    sigma,
-                })
-                .collect(),
-            command_sigma,
-        }
+            .collect(),
+        command_sigma,
     }
 }

@@ -15,6 +15,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use super::World;
+use super::control::request_for;
 use super::obstacles::SwitchOdds;
 use crate::avoidance::{ControllerConfig, repulsion_speed};
 use crate::control_point::DhPoint;
@@ -133,245 +134,239 @@ fn axis_offsets() -> [DVec3; 6] {
     ]
 }
 
-impl World {
-    /// The first-order standard deviations of the last step: per control
-    /// point (in the order of the state's control points, `None` for those
-    /// answering nothing noisy) and per joint command (`None` when no
-    /// control point answers a noisy obstacle).
-    #[must_use]
-    pub fn propagation(&self) -> (Vec<Option<PointSigma>>, Option<Vec<f64>>) {
-        let cfg = &self.scenario.controller;
-        let mut points = vec![None; self.points.len()];
-        let mut probes = vec![None; self.active.len()];
-        for input in &self.sigma_inputs {
-            let Some((sigma, p)) = self.point_sigma(input, cfg) else {
-                continue;
-            };
-            if let Some(slot) = points.get_mut(input.point) {
-                *slot = Some(sigma);
-            }
-            if let Some(slot) = input.active.and_then(|k| probes.get_mut(k)) {
-                *slot = Some(p);
-            }
-        }
-        let command = self.command_sigma(cfg, &probes).ok().flatten();
-        (points, command)
-    }
-
-    /// The pairs between the arm now and the figure `shape` (not added),
-    /// whatever their distance.
-    pub(super) fn pairs_with(&self, shape: &ShapeSpec) -> Result<Vec<PairDistance>, ScenarioError> {
-        let parts = primitives(shape).map_err(|e| e.within("shape"))?;
-        let scene = Scene::new(
-            parts
-                .into_iter()
-                .enumerate()
-                .map(|(k, p)| Obstacle {
-                    id: k as u32,
-                    shape: p,
-                })
-                .collect(),
-        );
-        let options = QueryOptions {
-            influence_distance: f64::MAX,
-            self_collision: false,
-            broad_phase: BroadPhase::BruteForce,
+/// The body of [`World::propagation`].
+pub(super) fn propagation(w: &World) -> (Vec<Option<PointSigma>>, Option<Vec<f64>>) {
+    let cfg = &w.model.scenario.controller;
+    let mut points = vec![None; w.data.readout.points.len()];
+    let mut probes = vec![None; w.data.propagation.active.len()];
+    for input in &w.data.propagation.sigma_inputs {
+        let Some((sigma, p)) = point_sigma(w, input, cfg) else {
+            continue;
         };
-        Ok(scene
-            .query(&self.skeleton, &options, |_, _| true)
-            .map_err(|e| FieldError::new("shape", e.to_string()))?)
-    }
-
-    /// What an obstacle of figure `shape` sensed with `sensing` would face
-    /// with the arm where it is: its clearance and the probability that
-    /// its closest segment, as sensed, differs from the ideal one — one
-    /// cell of a risk map (the picture the paper's fig. 4 asks for). A
-    /// human's `partSigma` adds its largest part's σ.
-    ///
-    /// # Errors
-    /// An invalid figure (`shape…`) or sensing (`sensing.…`).
-    pub fn risk_at(&self, shape: &ShapeSpec, sensing: &SensingSpec) -> Result<Risk, ScenarioError> {
-        sensing
-            .validate()
-            .map_err(|e| ScenarioError::Field(e.within("sensing")))?;
-        let pairs = self.pairs_with(shape)?;
-        let Some(best) = pairs
-            .iter()
-            .min_by(|x, y| x.distance.total_cmp(&y.distance))
-        else {
-            return Ok(Risk {
-                clearance: f64::INFINITY,
-                switch_probability: 0.0,
-                segment: None,
-                alternative: None,
-            });
-        };
-        // A human's `partSigma`: its largest part's, as in a world.
-        let largest = super::obstacles::human_of(shape)
-            .map_err(ScenarioError::Field)?
-            .map_or(0.0, |h| h.part_sigma().iter().copied().fold(0.0, f64::max));
-        let covariance = SensorModel::from_spec(sensing, 0).covariance_with(largest);
-        let jump = self.scenario.controller.jump_threshold;
-        let (odds, _) = segment_odds(&pairs, best, jump, &covariance);
-        Ok(Risk {
-            clearance: best.distance,
-            switch_probability: odds.probability,
-            segment: odds.segment,
-            alternative: odds.alternative,
-        })
-    }
-
-    /// The standard deviations of a control point answering obstacle
-    /// `input.owner`, with the probes the command's propagation needs; `None`
-    /// when the obstacle is sensed exactly. A point that follows its
-    /// selected witness moves with it, so its clearance, normal and DH
-    /// values are the witness pair's; a pinned point (no witness) stays
-    /// where it is.
-    fn point_sigma(
-        &self,
-        input: &SigmaInput,
-        cfg: &ControllerConfig,
-    ) -> Option<(PointSigma, Probes)> {
-        let SigmaInput {
-            owner,
-            position,
-            radius,
-            witness,
-            gain,
-            ..
-        } = *input;
-        let o = self.obstacles.get(owner)?;
-        if o.covariance.is_zero() {
-            return None;
+        if let Some(slot) = points.get_mut(input.point) {
+            *slot = Some(sigma);
         }
-        let margin = o.margin;
-        let mut values = [Probe {
-            distance: 0.0,
-            normal: DVec3::Z,
-            dh: None,
-        }; 6];
-        for (v, off) in values.iter_mut().zip(axis_offsets()) {
-            *v = match witness {
-                Some(w) => self.witness_probe(owner, w.segment, off)?,
-                None => {
-                    let (d, normal, _) = self.point_distance(owner, position - off).ok()?;
-                    Probe {
-                        distance: d - radius,
-                        normal,
-                        dh: None,
+        if let Some(slot) = input.active.and_then(|k| probes.get_mut(k)) {
+            *slot = Some(p);
+        }
+    }
+    let command = command_sigma(w, cfg, &probes).ok().flatten();
+    (points, command)
+}
+
+/// The pairs between the arm now and the figure `shape` (not added),
+/// whatever their distance.
+pub(super) fn pairs_with(w: &World, shape: &ShapeSpec) -> Result<Vec<PairDistance>, ScenarioError> {
+    let parts = primitives(shape).map_err(|e| e.within("shape"))?;
+    let scene = Scene::new(
+        parts
+            .into_iter()
+            .enumerate()
+            .map(|(k, p)| Obstacle {
+                id: k as u32,
+                shape: p,
+            })
+            .collect(),
+    );
+    let options = QueryOptions {
+        influence_distance: f64::MAX,
+        self_collision: false,
+        broad_phase: BroadPhase::BruteForce,
+    };
+    Ok(scene
+        .query(&w.data.skeleton, &options, |_, _| true)
+        .map_err(|e| FieldError::new("shape", e.to_string()))?)
+}
+
+/// The body of [`World::risk_at`].
+pub(super) fn risk_at(
+    w: &World,
+    shape: &ShapeSpec,
+    sensing: &SensingSpec,
+) -> Result<Risk, ScenarioError> {
+    sensing
+        .validate()
+        .map_err(|e| ScenarioError::Field(e.within("sensing")))?;
+    let pairs = pairs_with(w, shape)?;
+    let Some(best) = pairs
+        .iter()
+        .min_by(|x, y| x.distance.total_cmp(&y.distance))
+    else {
+        return Ok(Risk {
+            clearance: f64::INFINITY,
+            switch_probability: 0.0,
+            segment: None,
+            alternative: None,
+        });
+    };
+    // A human's `partSigma`: its largest part's, as in a world.
+    let largest = super::obstacles::human_of(shape)
+        .map_err(ScenarioError::Field)?
+        .map_or(0.0, |h| h.part_sigma().iter().copied().fold(0.0, f64::max));
+    let covariance = SensorModel::from_spec(sensing, 0).covariance_with(largest);
+    let jump = w.model.scenario.controller.jump_threshold;
+    let (odds, _) = segment_odds(&pairs, best, jump, &covariance);
+    Ok(Risk {
+        clearance: best.distance,
+        switch_probability: odds.probability,
+        segment: odds.segment,
+        alternative: odds.alternative,
+    })
+}
+
+/// The standard deviations of a control point answering obstacle
+/// `input.owner`, with the probes the command's propagation needs; `None`
+/// when the obstacle is sensed exactly. A point that follows its
+/// selected witness moves with it, so its clearance, normal and DH
+/// values are the witness pair's; a pinned point (no witness) stays
+/// where it is.
+fn point_sigma(
+    w: &World,
+    input: &SigmaInput,
+    cfg: &ControllerConfig,
+) -> Option<(PointSigma, Probes)> {
+    let SigmaInput {
+        owner,
+        position,
+        radius,
+        witness,
+        gain,
+        ..
+    } = *input;
+    let o = w.state.sensed.obstacles.get(owner)?;
+    if o.covariance.is_zero() {
+        return None;
+    }
+    let margin = o.margin;
+    let mut values = [Probe {
+        distance: 0.0,
+        normal: DVec3::Z,
+        dh: None,
+    }; 6];
+    for (v, off) in values.iter_mut().zip(axis_offsets()) {
+        *v = match witness {
+            Some(at) => witness_probe(w, owner, at.segment, off)?,
+            None => {
+                let (d, normal, _) = w.state.sensed.point_distance(owner, position - off).ok()?;
+                Probe {
+                    distance: d - radius,
+                    normal,
+                    dh: None,
+                }
+            }
+        };
+        v.distance -= margin;
+    }
+    let column = |f: &dyn Fn(&Probe) -> Vec<f64>| -> [Vec<f64>; 3] {
+        let col = |k: usize| -> Vec<f64> {
+            f(&values[2 * k])
+                .iter()
+                .zip(f(&values[2 * k + 1]))
+                .map(|(p, m)| (p - m) / (2.0 * FD_STEP))
+                .collect()
+        };
+        [col(0), col(1), col(2)]
+    };
+    let cov = o.covariance;
+    let distance = cov.std_of(&column(&|p| vec![p.distance]))[0];
+    let rep = cov.std_of(&column(&|p| {
+        (-p.normal * repulsion_speed(p.distance, cfg) * gain)
+            .to_array()
+            .to_vec()
+    }));
+    let dh = cov.std_of(&column(&|p| {
+        p.dh.map_or(vec![0.0, 0.0], |x| vec![x.d, x.a])
+    }));
+    let sigma = PointSigma {
+        distance,
+        d: dh[0],
+        a: dh[1],
+        repulsion: [rep[0], rep[1], rep[2]],
+    };
+    Some((sigma, Probes { owner, values }))
+}
+
+/// The closest pair of segment `segment` and obstacle `owner` (its
+/// closest part) moved by `offset`, as the controller would see it.
+fn witness_probe(w: &World, owner: usize, segment: usize, offset: DVec3) -> Option<Probe> {
+    let mut best: Option<PairDistance> = None;
+    for index in w.state.sensed.parts_of(owner) {
+        let p = w
+            .state
+            .sensed
+            .scene
+            .pair_moved(&w.data.skeleton, segment, index, offset)
+            .ok()?;
+        if best.is_none_or(|b| p.distance < b.distance) {
+            best = Some(p);
+        }
+    }
+    let p = best?;
+    let dh = DhPoint::from_skeleton(
+        &w.model.robot,
+        &w.data.frames,
+        &w.data.skeleton,
+        segment,
+        p.fraction,
+    )
+    .ok()?;
+    Some(Probe {
+        distance: p.distance,
+        normal: p.normal,
+        dh: Some(dh),
+    })
+}
+
+/// Standard deviation of each joint's command: the controller run again
+/// with each noisy obstacle moved by `±h` along each axis (its control
+/// points' clearances and normals from their probes), the obstacles'
+/// errors independent of each other. Only for the paper's repulsion,
+/// whose command is a smooth function of the control points; the
+/// `constraints` avoidance's command is piecewise (a row binds or it
+/// does not) and is not propagated (`None`).
+fn command_sigma(
+    w: &World,
+    cfg: &ControllerConfig,
+    probes: &[Option<Probes>],
+) -> Result<Option<Vec<f64>>, FieldError> {
+    if cfg.uses_constraints() {
+        return Ok(None);
+    }
+    let active = &w.data.propagation.active;
+    let mut owners: Vec<usize> = probes.iter().flatten().map(|p| p.owner).collect();
+    owners.sort_unstable();
+    owners.dedup();
+    if owners.is_empty() {
+        return Ok(None);
+    }
+    let mut variance = vec![0.0; w.model.robot.dof()];
+    let mut moved = active.to_vec();
+    for o in owners {
+        let mut columns: [Vec<f64>; 3] = Default::default();
+        for (k, column) in columns.iter_mut().enumerate() {
+            let mut run = |i: usize| -> Result<Vec<f64>, FieldError> {
+                for ((m, a), p) in moved.iter_mut().zip(active).zip(probes) {
+                    *m = *a;
+                    if let Some(p) = p.filter(|p| p.owner == o) {
+                        let v = p.values[i];
+                        (m.distance, m.normal) = (v.distance, v.normal);
+                        m.dh = v.dh.unwrap_or(m.dh);
                     }
                 }
+                let prop = &w.data.propagation;
+                request_for(&w.model, &w.data, &moved, (&prop.q, &prop.qdot), prop.dt)
             };
-            v.distance -= margin;
+            let (plus, minus) = (run(2 * k)?, run(2 * k + 1)?);
+            *column = plus
+                .iter()
+                .zip(&minus)
+                .map(|(p, m)| (p - m) / (2.0 * FD_STEP))
+                .collect();
         }
-        let column = |f: &dyn Fn(&Probe) -> Vec<f64>| -> [Vec<f64>; 3] {
-            let col = |k: usize| -> Vec<f64> {
-                f(&values[2 * k])
-                    .iter()
-                    .zip(f(&values[2 * k + 1]))
-                    .map(|(p, m)| (p - m) / (2.0 * FD_STEP))
-                    .collect()
-            };
-            [col(0), col(1), col(2)]
-        };
-        let cov = o.covariance;
-        let distance = cov.std_of(&column(&|p| vec![p.distance]))[0];
-        let rep = cov.std_of(&column(&|p| {
-            (-p.normal * repulsion_speed(p.distance, cfg) * gain)
-                .to_array()
-                .to_vec()
-        }));
-        let dh = cov.std_of(&column(&|p| {
-            p.dh.map_or(vec![0.0, 0.0], |x| vec![x.d, x.a])
-        }));
-        let sigma = PointSigma {
-            distance,
-            d: dh[0],
-            a: dh[1],
-            repulsion: [rep[0], rep[1], rep[2]],
-        };
-        Some((sigma, Probes { owner, values }))
+        let s = w.state.sensed.obstacles[o].covariance.std_of(&columns);
+        for (v, s) in variance.iter_mut().zip(s) {
+            *v += s * s;
+        }
     }
-
-    /// The closest pair of segment `segment` and obstacle `owner` (its
-    /// closest part) moved by `offset`, as the controller would see it.
-    fn witness_probe(&self, owner: usize, segment: usize, offset: DVec3) -> Option<Probe> {
-        let mut best: Option<PairDistance> = None;
-        for index in self.parts_of(owner) {
-            let p = self
-                .scene
-                .pair_moved(&self.skeleton, segment, index, offset)
-                .ok()?;
-            if best.is_none_or(|b| p.distance < b.distance) {
-                best = Some(p);
-            }
-        }
-        let p = best?;
-        let dh = DhPoint::from_skeleton(
-            &self.robot,
-            &self.frames,
-            &self.skeleton,
-            segment,
-            p.fraction,
-        )
-        .ok()?;
-        Some(Probe {
-            distance: p.distance,
-            normal: p.normal,
-            dh: Some(dh),
-        })
-    }
-
-    /// Standard deviation of each joint's command: the controller run again
-    /// with each noisy obstacle moved by `±h` along each axis (its control
-    /// points' clearances and normals from their probes), the obstacles'
-    /// errors independent of each other. Only for the paper's repulsion,
-    /// whose command is a smooth function of the control points; the
-    /// `constraints` avoidance's command is piecewise (a row binds or it
-    /// does not) and is not propagated (`None`).
-    fn command_sigma(
-        &self,
-        cfg: &ControllerConfig,
-        probes: &[Option<Probes>],
-    ) -> Result<Option<Vec<f64>>, FieldError> {
-        if Self::uses_constraints(cfg) {
-            return Ok(None);
-        }
-        let active = &self.active;
-        let mut owners: Vec<usize> = probes.iter().flatten().map(|p| p.owner).collect();
-        owners.sort_unstable();
-        owners.dedup();
-        if owners.is_empty() {
-            return Ok(None);
-        }
-        let mut variance = vec![0.0; self.robot.dof()];
-        let mut moved = active.to_vec();
-        for o in owners {
-            let mut columns: [Vec<f64>; 3] = Default::default();
-            for (k, column) in columns.iter_mut().enumerate() {
-                let mut run = |i: usize| -> Result<Vec<f64>, FieldError> {
-                    for ((m, a), p) in moved.iter_mut().zip(active).zip(probes) {
-                        *m = *a;
-                        if let Some(p) = p.filter(|p| p.owner == o) {
-                            let v = p.values[i];
-                            (m.distance, m.normal) = (v.distance, v.normal);
-                            m.dh = v.dh.unwrap_or(m.dh);
-                        }
-                    }
-                    self.request_for(cfg, &moved, &self.step_q, &self.step_qdot, self.step_dt)
-                };
-                let (plus, minus) = (run(2 * k)?, run(2 * k + 1)?);
-                *column = plus
-                    .iter()
-                    .zip(&minus)
-                    .map(|(p, m)| (p - m) / (2.0 * FD_STEP))
-                    .collect();
-            }
-            let s = self.obstacles[o].covariance.std_of(&columns);
-            for (v, s) in variance.iter_mut().zip(s) {
-                *v += s * s;
-            }
-        }
-        Ok(Some(variance.into_iter().map(f64::sqrt).collect()))
-    }
+    Ok(Some(variance.into_iter().map(f64::sqrt).collect()))
 }

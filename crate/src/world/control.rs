@@ -1,0 +1,74 @@
+//! Stage 6 of the control step, *control*: the task references, then the
+//! repulsion and the tasks as requested joint velocities (paper §III-A,
+//! eq. 4), or the `constraints` avoidance's QP
+//! ([`crate::avoidance::constraints`]).
+
+use super::parts::{Model, State, StepData};
+use crate::avoidance::constraints::{ConstraintsInput, constrained_velocity};
+use crate::avoidance::{self, ActivePoint, Mode};
+use crate::error::FieldError;
+
+/// Stage 6: the controller's requested joint velocities (zero while
+/// stopped).
+pub(super) fn control(
+    model: &Model,
+    state: &State,
+    data: &mut StepData,
+    active: &[ActivePoint],
+    dt: f64,
+) -> Result<(), FieldError> {
+    let cfg = &model.scenario.controller;
+    let mut refs = std::mem::take(&mut data.references);
+    model.scenario.task.references(
+        &model.robot,
+        state.t,
+        &state.anchors,
+        cfg.uses_constraints(),
+        &mut refs,
+    );
+    data.references = refs;
+    if cfg.uses_constraints() {
+        let input = ConstraintsInput {
+            robot: &model.robot,
+            frames: &data.frames,
+            q: &state.q,
+            stop_time: data.guard.stop_time,
+            tasks: &data.references,
+            guards: &data.guard.guards,
+            config: cfg,
+        };
+        let mut out = std::mem::take(&mut data.request);
+        let outcome = constrained_velocity(&input, &mut data.guard.qp, &mut out)?;
+        data.guard.relaxed = outcome.relaxed;
+        data.request = out;
+    } else {
+        data.request = request_for(model, data, active, (&state.q, &state.motion.qdot), dt)?;
+    }
+    if state.stop.stopped {
+        data.request.iter_mut().for_each(|v| *v = 0.0);
+    }
+    Ok(())
+}
+
+/// The controller's joint command for the active points `active` and
+/// this step's task references (the paper's repulsion; the
+/// `constraints` avoidance is solved in [`control`]).
+pub(super) fn request_for(
+    model: &Model,
+    data: &StepData,
+    active: &[ActivePoint],
+    (q, qdot): (&[f64], &[f64]),
+    dt: f64,
+) -> Result<Vec<f64>, FieldError> {
+    let cfg = &model.scenario.controller;
+    let (robot, frames) = (&model.robot, &data.frames);
+    let refs = &data.references;
+    Ok(match cfg.mode {
+        Mode::Velocity => avoidance::velocity_control(robot, frames, active, refs, cfg)?,
+        Mode::Torque => avoidance::torque_control(robot, frames, qdot, active, refs, cfg, dt)?.0,
+        Mode::Clik2 => {
+            let joints = avoidance::JointState { q, qdot };
+            avoidance::clik2_control(robot, frames, joints, active, refs, cfg, dt)?
+        }
+    })
+}

@@ -1,0 +1,42 @@
+//! Stages 8 and 9 of the control step, *limit* and *integrate*: the
+//! jerk-limited tracking of the request within the joints' limits
+//! ([`crate::avoidance::limits`]), then `q += q̇ dt` and `t += dt`.
+
+use super::StopReason;
+use super::parts::{Model, State, StepData};
+use crate::avoidance::limits;
+
+/// Stages 8 and 9: the joint limits, then `q += q̇ dt`, `t += dt`
+/// (counted as `k·dt`, see `clock`).
+pub(super) fn limit_and_integrate(model: &Model, state: &mut State, data: &mut StepData, dt: f64) {
+    data.propagation.t = state.t;
+    // A chattering stop decelerates gently (`maxDeceleration`); a stop
+    // before an unavoidable contact and the emergency brake use the
+    // full deceleration of the slowest joint. Every stop is
+    // synchronised: the joint velocities shrink along one line to zero,
+    // so every pair's approach speed shrinks with them (joints braked
+    // each at its own rate can turn a motion along an obstacle into one
+    // towards it: measured on the PR2 reach problems).
+    let urgent = state.stop.braking || state.stop.reason == Some(StopReason::Unavoidable);
+    let options = limits::StepOptions {
+        max_acceleration: if state.stop.stopped && !urgent {
+            model.scenario.dependability.max_deceleration
+        } else {
+            f64::INFINITY
+        },
+        synchronise: true,
+    };
+    limits::step_with(
+        &model.robot,
+        &state.q,
+        &data.request,
+        &mut state.motion,
+        dt,
+        &options,
+    );
+    for (q, v) in state.q.iter_mut().zip(&state.motion.qdot) {
+        *q += v * dt;
+    }
+    model.robot.clamp_to_limits(&mut state.q);
+    state.t = state.clock.advance(state.t, dt);
+}
