@@ -134,7 +134,12 @@ impl Dynamics {
     ///
     /// # Errors
     /// An invalid `q`; `m` not of length `n²`.
-    pub fn mass_matrix(&self, ws: &mut Workspace, q: &[f64], m: &mut [f64]) -> Result<(), FieldError> {
+    pub fn mass_matrix(
+        &self,
+        ws: &mut Workspace,
+        q: &[f64],
+        m: &mut [f64],
+    ) -> Result<(), FieldError> {
         let n = self.dof();
         check_out("m", m, n * n)?;
         self.prepare(ws, q)?;
@@ -164,7 +169,12 @@ impl Dynamics {
     ///
     /// # Errors
     /// An invalid `q` or `qdot`.
-    pub fn kinetic_energy(&self, ws: &mut Workspace, q: &[f64], qdot: &[f64]) -> Result<f64, FieldError> {
+    pub fn kinetic_energy(
+        &self,
+        ws: &mut Workspace,
+        q: &[f64],
+        qdot: &[f64],
+    ) -> Result<f64, FieldError> {
         check_vector("qdot", qdot, self.dof())?;
         self.prepare(ws, q)?;
         let mut energy = 0.0;
@@ -217,7 +227,11 @@ impl Dynamics {
         let n = self.dof();
         ws.acceleration[0] = Spatial {
             w: glam::DVec3::ZERO,
-            v: if gravity { -self.gravity } else { glam::DVec3::ZERO },
+            v: if gravity {
+                -self.gravity
+            } else {
+                glam::DVec3::ZERO
+            },
         };
         for k in 0..n {
             let parent = self.robot.joints[k].parent;

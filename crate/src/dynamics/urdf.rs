@@ -18,8 +18,8 @@
 
 use glam::{DAffine3, DMat3, DVec3};
 
-use super::inertia::Inertial;
 use super::Dynamics;
+use super::inertia::Inertial;
 use crate::error::FieldError;
 use crate::kinematics::urdf::{UrdfOptions, robot_with_links};
 use crate::kinematics::{Robot, RobotSpec};
