@@ -178,9 +178,9 @@ impl Dynamics {
         check_vector("qdot", qdot, self.dof())?;
         self.prepare(ws, q)?;
         let mut energy = 0.0;
-        for k in 0..self.dof() {
+        for (k, rate) in qdot.iter().enumerate() {
             let parent = self.robot.joints[k].parent;
-            let v = ws.velocity[parent].add_scaled(&ws.axis[k], qdot[k]);
+            let v = ws.velocity[parent].add_scaled(&ws.axis[k], *rate);
             ws.velocity[k + 1] = v;
             energy += 0.5 * v.dot(&ws.inertia[k].apply(&v));
         }
