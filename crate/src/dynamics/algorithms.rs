@@ -25,6 +25,26 @@ pub struct Workspace {
     force: Vec<Spatial>,
 }
 
+/// Which terms of the equation of motion a Newton–Euler pass includes:
+/// velocity terms (with `qdot`), acceleration terms (with `qddot`),
+/// gravity.
+#[derive(Clone, Copy)]
+struct Terms<'a> {
+    qdot: Option<&'a [f64]>,
+    qddot: Option<&'a [f64]>,
+    gravity: bool,
+}
+
+impl<'a> Terms<'a> {
+    fn all(qdot: &'a [f64], qddot: &'a [f64]) -> Self {
+        Self {
+            qdot: Some(qdot),
+            qddot: Some(qddot),
+            gravity: true,
+        }
+    }
+}
+
 /// Checks that an output slice has `n` entries.
 fn check_out(field: &str, out: &[f64], n: usize) -> Result<(), FieldError> {
     if out.len() == n {
@@ -68,13 +88,9 @@ impl Dynamics {
         (qdot, qddot): (&[f64], &[f64]),
         tau: &mut [f64],
     ) -> Result<(), FieldError> {
-        let n = self.dof();
-        check_vector("qdot", qdot, n)?;
-        check_vector("qddot", qddot, n)?;
-        check_out("tau", tau, n)?;
-        self.prepare(ws, q)?;
-        self.newton_euler(ws, Some(qdot), Some(qddot), true, tau);
-        Ok(())
+        check_vector("qdot", qdot, self.dof())?;
+        check_vector("qddot", qddot, self.dof())?;
+        self.torques(ws, q, Terms::all(qdot, qddot), ("tau", tau))
     }
 
     /// The gravity torques `g(q)` into `out`.
@@ -87,10 +103,12 @@ impl Dynamics {
         q: &[f64],
         out: &mut [f64],
     ) -> Result<(), FieldError> {
-        check_out("out", out, self.dof())?;
-        self.prepare(ws, q)?;
-        self.newton_euler(ws, None, None, true, out);
-        Ok(())
+        let terms = Terms {
+            qdot: None,
+            qddot: None,
+            gravity: true,
+        };
+        self.torques(ws, q, terms, ("out", out))
     }
 
     /// The Coriolis and centrifugal torques `C(q, q̇) q̇` into `out`.
@@ -104,11 +122,7 @@ impl Dynamics {
         qdot: &[f64],
         out: &mut [f64],
     ) -> Result<(), FieldError> {
-        check_vector("qdot", qdot, self.dof())?;
-        check_out("out", out, self.dof())?;
-        self.prepare(ws, q)?;
-        self.newton_euler(ws, Some(qdot), None, false, out);
-        Ok(())
+        self.velocity_terms(ws, (q, qdot), false, out)
     }
 
     /// `C(q, q̇) q̇ + g(q)` (what the joints need at `q̈ = 0`) into `out`.
@@ -122,10 +136,37 @@ impl Dynamics {
         qdot: &[f64],
         out: &mut [f64],
     ) -> Result<(), FieldError> {
+        self.velocity_terms(ws, (q, qdot), true, out)
+    }
+
+    /// `C(q, q̇) q̇`, with `g(q)` added when `gravity`.
+    fn velocity_terms(
+        &self,
+        ws: &mut Workspace,
+        (q, qdot): (&[f64], &[f64]),
+        gravity: bool,
+        out: &mut [f64],
+    ) -> Result<(), FieldError> {
         check_vector("qdot", qdot, self.dof())?;
-        check_out("out", out, self.dof())?;
+        let terms = Terms {
+            qdot: Some(qdot),
+            qddot: None,
+            gravity,
+        };
+        self.torques(ws, q, terms, ("out", out))
+    }
+
+    /// Checks `out`, runs the kinematics and Newton–Euler for `terms`.
+    fn torques(
+        &self,
+        ws: &mut Workspace,
+        q: &[f64],
+        terms: Terms<'_>,
+        (field, out): (&str, &mut [f64]),
+    ) -> Result<(), FieldError> {
+        check_out(field, out, self.dof())?;
         self.prepare(ws, q)?;
-        self.newton_euler(ws, Some(qdot), None, true, out);
+        self.newton_euler(ws, &terms, out);
         Ok(())
     }
 
@@ -216,14 +257,12 @@ impl Dynamics {
     /// Newton–Euler over the prepared workspace: velocities and
     /// accelerations outwards (gravity as an upward acceleration of the
     /// base when `gravity`), forces inwards; `τ_k = s_kᵀ f_k` into `out`.
-    fn newton_euler(
-        &self,
-        ws: &mut Workspace,
-        qdot: Option<&[f64]>,
-        qddot: Option<&[f64]>,
-        gravity: bool,
-        out: &mut [f64],
-    ) {
+    fn newton_euler(&self, ws: &mut Workspace, terms: &Terms<'_>, out: &mut [f64]) {
+        let Terms {
+            qdot,
+            qddot,
+            gravity,
+        } = *terms;
         let n = self.dof();
         ws.acceleration[0] = Spatial {
             w: glam::DVec3::ZERO,
