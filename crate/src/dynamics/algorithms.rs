@@ -12,17 +12,17 @@ use super::spatial::{BodyInertia, Spatial};
 /// velocity, acceleration and force of each body.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
-    frames: Frames,
+    pub(super) frames: Frames,
     /// Per row: the joint's motion subspace (unit twist).
-    axis: Vec<Spatial>,
+    pub(super) axis: Vec<Spatial>,
     /// Per row: the body's inertia (composite in the mass matrix).
-    inertia: Vec<BodyInertia>,
+    pub(super) inertia: Vec<BodyInertia>,
     /// Per frame 0..=n: velocity.
-    velocity: Vec<Spatial>,
+    pub(super) velocity: Vec<Spatial>,
     /// Per frame 0..=n: acceleration (gravity as a base acceleration).
-    acceleration: Vec<Spatial>,
+    pub(super) acceleration: Vec<Spatial>,
     /// Per row: the force the row's joint transmits.
-    force: Vec<Spatial>,
+    pub(super) force: Vec<Spatial>,
 }
 
 /// Which terms of the equation of motion a Newton–Euler pass includes:

@@ -419,3 +419,50 @@ fn lumped_bodies_keep_mass_centre_and_inertia() {
     let first = joined.mass * joined.com - ta.mass * ta.com - tb.mass * tb.com;
     assert!(first.length() < 1e-14);
 }
+
+/// After the workspace exists, no call grows or moves its storage: the
+/// computations allocate nothing.
+#[test]
+fn calls_reuse_the_workspace_storage() {
+    let mut rng = Rng::new(9);
+    for spec in all_presets() {
+        let dynamics = random_dynamics(&spec, &mut rng);
+        let mut ws = dynamics.workspace();
+        let n = dynamics.dof();
+        let storage = |ws: &super::Workspace| {
+            [
+                (
+                    ws.frames.transforms.as_ptr() as usize,
+                    ws.frames.transforms.capacity(),
+                ),
+                (ws.frames.axis.as_ptr() as usize, ws.frames.axis.capacity()),
+                (
+                    ws.frames.axis_point.as_ptr() as usize,
+                    ws.frames.axis_point.capacity(),
+                ),
+                (ws.axis.as_ptr() as usize, ws.axis.capacity()),
+                (ws.inertia.as_ptr() as usize, ws.inertia.capacity()),
+                (ws.velocity.as_ptr() as usize, ws.velocity.capacity()),
+                (
+                    ws.acceleration.as_ptr() as usize,
+                    ws.acceleration.capacity(),
+                ),
+                (ws.force.as_ptr() as usize, ws.force.capacity()),
+            ]
+        };
+        let before = storage(&ws);
+        let (mut tau, mut m) = (vec![0.0; n], vec![0.0; n * n]);
+        for _ in 0..5 {
+            let [q, qd, qdd] = random_state(n, &mut rng);
+            dynamics
+                .inverse_dynamics(&mut ws, &q, (&qd, &qdd), &mut tau)
+                .unwrap();
+            dynamics.mass_matrix(&mut ws, &q, &mut m).unwrap();
+            dynamics
+                .nonlinear_effects(&mut ws, &q, &qd, &mut tau)
+                .unwrap();
+            dynamics.kinetic_energy(&mut ws, &q, &qd).unwrap();
+        }
+        assert_eq!(storage(&ws), before, "{:?}", spec.name);
+    }
+}
