@@ -6,7 +6,10 @@
 //
 // Last, the playground's frame rate in headless Chromium (bench-frames.mjs).
 //
-//   npm run bench [-- --tables]   (--tables skips the criterion runs)
+//   npm run bench [-- --tables]   (--tables skips the criterion runs;
+//                                  --tables --against <dir> measures this
+//                                  control step against another checkout's,
+//                                  interleaved: bench-step-ab.mjs)
 //   npm run bench -- --frames     (only the frame-rate table; --only a,b
 //                                  measures those rows; --against <dir>
 //                                  measures this build against another,
@@ -19,12 +22,12 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { createRequire } from 'node:module';
-import { spawnSync } from 'node:child_process';
 import { repo, run } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
 import { frameRows, frameTable } from './bench-frames.mjs';
 import { abTable } from './bench-ab.mjs';
+import { median, nativeRound as nativeRoundIn, stepAbTable, wasmControlStep, wasmMedian } from './bench-step-ab.mjs';
 
 const benches = fs
   .readdirSync(path.join(repo, 'crate', 'benches'))
@@ -51,6 +54,11 @@ if (process.argv.includes('--frames')) {
     : await frameTable(exampleNames(), only);
   process.exit(ok ? 0 : 1);
 }
+if (quick && option('against')) {
+  if (buildWasm('node') !== 0) process.exit(1);
+  stepAbTable(option('against'), Number(option('rounds') ?? 5));
+  process.exit(0);
+}
 for (const b of quick ? [] : benches) {
   console.log(`\n=== cargo bench --bench ${b}`);
   if (run('cargo', ['bench', '-p', 'skeleton-avoidance', '--features', 'parallel', '--bench', b]) !== 0) process.exit(1);
@@ -73,35 +81,7 @@ function exampleNames() {
 const require = createRequire(import.meta.url);
 const sa = require(path.join(repo, 'crate', 'pkg-node', 'skeleton_avoidance.js'));
 
-/** One native round of bench `bench` in its batch mode: `{ id: ns per step }`. */
-function nativeRound(bench) {
-  const r = spawnSync('cargo', ['bench', '-q', '-p', 'skeleton-avoidance', '--features', 'parallel', '--bench', bench], {
-    cwd: repo,
-    encoding: 'utf8',
-    env: { ...process.env, SA_BATCH_ROUND: '1' },
-  });
-  if (r.status !== 0) throw new Error(`native round of ${bench} failed: ${r.stderr}`);
-  return Object.fromEntries(
-    r.stdout.split('\n').filter((l) => /^\S+ [0-9.]+$/.test(l.trim())).map((l) => {
-      const [id, ns] = l.trim().split(/\s+/);
-      return [id, Number(ns)];
-    }),
-  );
-}
-
-const median = (xs) => xs.slice().sort((a, b) => a - b)[Math.floor(xs.length / 2)];
-
-/** Median ns per step of `fn(batch)` over `samples` timed batches, after a warm-up. */
-function wasmMedian(fn, batch, samples) {
-  fn(batch); // warm-up (compilation tiers)
-  const per = [];
-  for (let s = 0; s < samples; s++) {
-    const t0 = process.hrtime.bigint();
-    fn(batch);
-    per.push(Number(process.hrtime.bigint() - t0) / batch);
-  }
-  return median(per);
-}
+const nativeRound = (bench) => nativeRoundIn(repo, bench);
 
 /**
  * Alternates native and wasm rounds (`rounds` each) so that both see the same
@@ -138,11 +118,7 @@ table(
 table(
   'full control step: lwr4 among N spheres (FK, skeleton, scene query, control points, transitions, Jacobians, controller)',
   'control_step',
-  () => Object.fromEntries([
-    ...[[10, 500], [100, 500], [1000, 100]].map(([n, batch]) =>
-      [`control_step/lwr4/${n}`, wasmMedian((k) => sa.benchControlStep(k, n), batch, 9)]),
-    ['control_step/lwr4/human+10', wasmMedian((k) => sa.benchControlStep(k, 10, true), 500, 9)],
-  ]),
+  () => wasmControlStep(sa),
   {
     'control_step/lwr4/10': 'native ≤ 10 µs, wasm/native ≤ 1.5',
     'control_step/lwr4/100': 'native ≤ 50 µs, wasm/native ≤ 1.5',

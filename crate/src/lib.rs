@@ -27,6 +27,7 @@
 //! | [`linalg`] | small dense matrices, symmetric eigen-decomposition, the weighted damped least-squares inverse; depends on nothing else in the crate | §III-A |
 //! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
 //! | [`distance`] | primitives (`primitive/`: one file per group of figures, `spec.rs` for the JS description), closed-form distances and witnesses, scene query, picking | §II, figs. 2–3 |
+//! | [`parsers`] | readers of files: URDF and SRDF, meshes (STL, OBJ, COLLADA, glTF), keypoint tracks (JSON, CSV) and BVH motion capture | — |
 //! | [`view`] | what the viewer shows as plain data: the scene built from a world's state, framing (reach, planar robots), the camera, the viewer's state apart from the GPU | — |
 //! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
 //! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground: uploads a [`view::Scene`] and draws it, nothing else | — |
@@ -67,6 +68,7 @@ pub mod kinematics;
 pub mod linalg;
 pub mod math;
 pub mod mesh;
+pub mod parsers;
 pub mod reach;
 pub mod rng;
 pub mod scenario;

@@ -1,5 +1,5 @@
 //! Small dense linear algebra: the matrix type of the Jacobians, a symmetric
-//! eigen-decomposition, and the weighted damped least-squares pseudoinverse
+//! eigen-decomposition, the Cholesky factor, and the weighted damped least-squares pseudoinverse
 //! that inverse kinematics and the avoidance controllers share.
 //!
 //! The pseudoinverse is `J_W^† = W⁻¹ Jᵀ (J W⁻¹ Jᵀ + Σ λ_i² u_i u_iᵀ)⁻¹` with
@@ -169,6 +169,16 @@ pub fn symmetric_eigen(a: &Mat) -> (Vec<f64>, Mat) {
     ((0..n).map(|i| m.get(i, i)).collect(), v)
 }
 
+/// The joint weights and the damping of one weighted damped least-squares
+/// inverse ([`dls_inverse`]), as the CLIK schemes take them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DlsSettings<'a> {
+    /// Joint weights (`n` positive values; empty for unit weights).
+    pub weights: &'a [f64],
+    /// Damping near singularities.
+    pub damping: Damping,
+}
+
 /// Parameters of the damped least-squares inverse.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Damping {
@@ -197,6 +207,30 @@ pub struct DlsInverse {
     pub sigma_min: f64,
     /// Damping factor applied in the direction of the smallest singular value.
     pub lambda: f64,
+}
+
+/// The lower Cholesky factor `L` of the symmetric `n × n` row-major matrix
+/// `a = L Lᵀ`, into `l` (row-major, zero above the diagonal). Returns
+/// `false` when a pivot is not finite or not above `floor` (`a` is not
+/// positive definite, or too close to singular for the caller): `l` is
+/// then incomplete.
+pub fn cholesky_into(a: &[f64], n: usize, floor: f64, l: &mut Vec<f64>) -> bool {
+    l.clear();
+    l.resize(n * n, 0.0);
+    for i in 0..n {
+        for j in 0..=i {
+            let s = a[i * n + j] - (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum::<f64>();
+            if i == j {
+                if !(s > floor && s.is_finite()) {
+                    return false;
+                }
+                l[i * n + i] = s.sqrt();
+            } else {
+                l[i * n + j] = s / l[j * n + j];
+            }
+        }
+    }
+    true
 }
 
 /// The weighted damped least-squares inverse of `jac` (m × n) with joint

@@ -30,8 +30,8 @@ use serde::Deserialize;
 use serde_json::{Value, json};
 
 use crate::error::FieldError;
-use crate::kinematics::urdf::{UrdfOptions, robot_from_urdf};
 use crate::kinematics::{PoseSpec, Robot, presets};
+use crate::parsers::urdf::{UrdfOptions, robot_from_urdf};
 use crate::rng::Rng;
 use crate::scenario::{MotionAudit, Scenario, Trace, audit};
 use crate::world::World;

@@ -30,20 +30,8 @@ const LOWER: &[(&str, &str)] = &[
         include_str!("../src/kinematics/spec.rs"),
     ),
     (
-        "kinematics/urdf/mod.rs",
-        include_str!("../src/kinematics/urdf/mod.rs"),
-    ),
-    (
-        "kinematics/urdf/dh.rs",
-        include_str!("../src/kinematics/urdf/dh.rs"),
-    ),
-    (
-        "kinematics/urdf/links.rs",
-        include_str!("../src/kinematics/urdf/links.rs"),
-    ),
-    (
-        "kinematics/urdf/report.rs",
-        include_str!("../src/kinematics/urdf/report.rs"),
+        "kinematics/dh_from_axes.rs",
+        include_str!("../src/kinematics/dh_from_axes.rs"),
     ),
 ];
 
@@ -58,6 +46,7 @@ const HIGHER: &[&str] = &[
     "world",
     "distance",
     "fitting",
+    "parsers",
 ];
 
 /// Re-exports kept only so that old paths still compile; the code of the

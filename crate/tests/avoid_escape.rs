@@ -10,8 +10,8 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use skeleton_avoidance::dependability::EventKind;
-use skeleton_avoidance::kinematics::urdf::{UrdfOptions, robot_from_urdf};
 use skeleton_avoidance::kinematics::{LinkRef, Robot};
+use skeleton_avoidance::parsers::urdf::{UrdfOptions, robot_from_urdf};
 use skeleton_avoidance::scenario::{MotionAudit, Scenario, audit};
 use skeleton_avoidance::world::{World, simulate};
 

@@ -12,7 +12,7 @@ use glam::DVec3;
 use skeleton_avoidance::control_point::DhPoint;
 use skeleton_avoidance::control_point::clik::{self, SolveOptions};
 use skeleton_avoidance::kinematics::ik;
-use skeleton_avoidance::linalg::{self, Damping, Mat};
+use skeleton_avoidance::linalg::{self, Damping, DlsSettings, Mat};
 use skeleton_avoidance::rng::Rng;
 
 mod common;
@@ -131,11 +131,12 @@ fn clik_with_a_moving_control_point_tracks_it() {
             &frames,
             &cp,
             &motion,
-            target,
-            DVec3::ZERO,
+            &clik::PointTarget {
+                position: target,
+                ..Default::default()
+            },
             50.0,
-            &[],
-            Damping::default(),
+            DlsSettings::default(),
         );
         for (v, d) in q.iter_mut().zip(&qd) {
             *v += d * dt;
@@ -167,12 +168,12 @@ fn clik_with_a_moving_control_point_tracks_it() {
             &frames,
             &cp,
             &motion,
-            target,
-            DVec3::ZERO,
-            DVec3::ZERO,
+            &clik::PointTarget {
+                position: target,
+                ..Default::default()
+            },
             (400.0, 40.0),
-            &[],
-            Damping::default(),
+            DlsSettings::default(),
         )
         .unwrap();
         for ((v, w), acc) in q.iter_mut().zip(qdot.iter_mut()).zip(&qdd) {
@@ -224,8 +225,7 @@ fn pose_clik_reaches_position_and_orientation() {
                     (pos, rot),
                     (DVec3::ZERO, DVec3::ZERO),
                     (20.0, 20.0),
-                    &[],
-                    Damping::default(),
+                    DlsSettings::default(),
                 )
                 .unwrap();
                 for (v, d) in q.iter_mut().zip(&qd) {

@@ -15,9 +15,10 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use std::collections::BTreeMap;
 
 use skeleton_avoidance::distance::{Primitive, TaperedCapsule, distance};
-use skeleton_avoidance::fitting::{UrdfFit, fit_urdf, resolve_mesh};
+use skeleton_avoidance::fitting::{UrdfFit, fit_urdf};
 use skeleton_avoidance::kinematics::Robot;
-use skeleton_avoidance::kinematics::urdf::UrdfOptions;
+use skeleton_avoidance::parsers::mesh::resolve_mesh;
+use skeleton_avoidance::parsers::urdf::UrdfOptions;
 use skeleton_avoidance::rng::Rng;
 use skeleton_avoidance::skeleton::Skeleton;
 

@@ -19,8 +19,8 @@ use skeleton_avoidance::fitting::{
     Body, CoverageOptions, bodies_onto, coverage, fit_urdf, fit_volumes, rigid_fit,
 };
 use skeleton_avoidance::kinematics::presets::preset;
-use skeleton_avoidance::kinematics::urdf::UrdfOptions;
 use skeleton_avoidance::kinematics::{Robot, RobotSpec};
+use skeleton_avoidance::parsers::urdf::UrdfOptions;
 
 macro_rules! files {
     ($($key:literal => $path:literal),* $(,)?) => {{

@@ -10,10 +10,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use glam::DVec3;
 use skeleton_avoidance::distance::PrimitiveSpec;
-use skeleton_avoidance::human::track::{
-    Layout, NEEDED, TrackFile, TrackOptions, import, synthesize,
-};
+use skeleton_avoidance::human::track::{TrackOptions, import, synthesize};
 use skeleton_avoidance::human::{Human, HumanSpec, Posed};
+use skeleton_avoidance::parsers::track::{Layout, NEEDED, TrackFile};
 use skeleton_avoidance::rng::Rng;
 use skeleton_avoidance::scenario::ShapeSpec;
 

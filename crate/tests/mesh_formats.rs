@@ -11,7 +11,8 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use glam::{DAffine3, DQuat, DVec3};
-use skeleton_avoidance::mesh::{MeshError, TriMesh, load_mesh};
+use skeleton_avoidance::mesh::TriMesh;
+use skeleton_avoidance::parsers::mesh::{MeshError, load_mesh};
 
 const PANDA_LINK0: &[u8] = include_bytes!("data/meshes/panda/collision/link0.stl");
 const UR5_WRIST3: &[u8] = include_bytes!("data/meshes/formats/ur5_wrist3.dae");

@@ -7,8 +7,8 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-use skeleton_avoidance::kinematics::urdf::{UrdfOptions, robot_from_urdf};
 use skeleton_avoidance::kinematics::{JointType, RadiusSpec, Robot, presets};
+use skeleton_avoidance::parsers::urdf::{UrdfOptions, robot_from_urdf};
 
 const PANDA: &str = include_str!("data/urdf/panda_collision.urdf");
 const IIWA: &str = include_str!("data/urdf/iiwa14_primitive_collision.urdf");
@@ -203,7 +203,7 @@ fn damaged_documents_give_errors_not_panics() {
 
 #[test]
 fn the_import_reports_what_it_defaulted_and_left_out() {
-    use skeleton_avoidance::kinematics::urdf::{import_urdf, report::RadiusFrom};
+    use skeleton_avoidance::parsers::urdf::{import_urdf, report::RadiusFrom};
     let two = two_joints(r#"type="continuous"><axis xyz="0 0 1"/>"#);
     let with_mesh = two.replace(
         "<link name=\"c\"><collision><geometry><sphere radius=\"0.07\"/></geometry></collision></link>",

@@ -12,8 +12,8 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use std::collections::HashMap;
 
-use skeleton_avoidance::kinematics::urdf::{UrdfOptions, robot_from_urdf};
 use skeleton_avoidance::kinematics::{JointType, Robot};
+use skeleton_avoidance::parsers::urdf::{UrdfOptions, robot_from_urdf};
 use skeleton_avoidance::rng::Rng;
 use skeleton_avoidance::skeleton::Skeleton;
 

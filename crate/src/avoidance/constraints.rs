@@ -43,174 +43,89 @@
 //! dampers are dropped and the protective bounds alone are solved for; if
 //! those cannot be met either, the world stops the arm (`unavoidable`).
 //!
+//! **Where the rows come from.** Each term is a type of [`super::rows`]:
+//! the tasks' rows `J`, `v` ([`super::rows::EndEffectorTask`],
+//! [`super::rows::PointTask`]), the box ([`super::rows::JointBox`]), the
+//! protective bounds `bₖ` ([`super::rows::ProtectiveBound`], and
+//! [`super::rows::SelfPairs`] for two points of the arm) and the dampers
+//! `sₖ` ([`super::rows::VelocityDamper`], soft: the ones dropped). They are
+//! registered in [`constrained_velocity`] and stacked by the assembler
+//! [`super::qp::assemble`].
+//!
 //! Control points keep their roles — the monitor's time to collision,
 //! chattering and transition checks, and the `repulsion` mode — but do not
 //! thin out the constraints: one-sided rows do not compete for the joints
 //! the way equality rows do, so every pair keeps its own.
 
-use super::control::task_level;
 use super::protect::Guard;
-use super::qp::{self, Solution, Workspace};
+use super::qp::Workspace;
+use super::qp::assemble::{Stack, solve_stacked};
+use super::rows::{
+    JointBox, Limit, LimitContext, ProtectiveBound, SelfPairs, TaskContext, VelocityDamper,
+    stack_tasks,
+};
 use super::{ControllerConfig, TaskReference};
 use crate::error::FieldError;
 use crate::kinematics::{Frames, Robot};
-use crate::linalg::Mat;
 
-/// Violation of a protective bound (m/s) beyond which the arm is judged
-/// unable to keep a pair safe: far above the solver's accuracy, far below
-/// any speed that matters.
-pub const INFEASIBLE_TOLERANCE: f64 = 1e-3;
+pub use super::qp::assemble::{INFEASIBLE_TOLERANCE, Outcome, REGULARISATION};
 
-/// `μ`, the weight of `q̇ᵀ W q̇` against the task (s²·m²/rad²): small
-/// enough that a task away from singularities is tracked to within 0.1 %,
-/// large enough to keep `H` well conditioned for the solver at a
-/// singularity.
-pub const REGULARISATION: f64 = 1e-4;
-
-/// What [`constrained_velocity`] did.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Outcome {
-    /// Whether the dampers had to be dropped (dampers, protective bounds
-    /// and the box could not all be met).
-    pub relaxed: bool,
-    /// The last solve.
-    pub solution: Solution,
+/// What the `constraints` avoidance reads in one step.
+#[derive(Clone, Copy, Debug)]
+pub struct ConstraintsInput<'a> {
+    /// The robot.
+    pub robot: &'a Robot,
+    /// Its frames now.
+    pub frames: &'a Frames,
+    /// Joint positions.
+    pub q: &'a [f64],
+    /// The stop time of the obstacles closing in (s;
+    /// [`super::protect::stop_time`]).
+    pub stop_time: f64,
+    /// This step's task references.
+    pub tasks: &'a [TaskReference],
+    /// This step's guards ([`super::protect::prepare`]).
+    pub guards: &'a [Guard],
+    /// The controller.
+    pub config: &'a ControllerConfig,
 }
 
-/// The Hessian `JᵀJ + μW` and the linear term `Jᵀv` of the tasks.
-fn objective(jac: &Mat, rhs: &[f64], config: &ControllerConfig) -> (Mat, Vec<f64>) {
-    let n = jac.cols;
-    let mut h = Mat::zeros(n, n);
-    let mut f = vec![0.0; n];
-    for (row, target) in jac.data.chunks_exact(n).zip(rhs) {
-        for i in 0..n {
-            if row[i] == 0.0 {
-                continue;
-            }
-            f[i] += row[i] * target;
-            for j in 0..n {
-                h.data[i * n + j] += row[i] * row[j];
-            }
-        }
-    }
-    let mu = REGULARISATION + singular_damping(jac, config);
-    let weights = config.joint_weights.as_deref().unwrap_or(&[]);
-    for i in 0..n {
-        h.data[i * n + i] += mu * weights.get(i).copied().unwrap_or(1.0);
-    }
-    (h, f)
-}
-
-/// The damping of a singularity, `λ²`: zero while the task Jacobian's
-/// smallest singular value `σ` is above `damping.epsilon`, rising to
-/// `damping.lambdaMax²` as `σ → 0` (`λ² = (1 − σ²/ε²) λ_max²`, the
-/// variable damping of the paper's DLS inverse). `σ²` is the smallest
-/// eigenvalue of `J Jᵀ` (one row per task row: at most 6 per chain), found
-/// by inverse iteration on its Cholesky factor.
-fn singular_damping(jac: &Mat, config: &ControllerConfig) -> f64 {
-    let (m, n) = (jac.rows, jac.cols);
-    let eps = config.damping.epsilon;
-    if m == 0 || eps <= 0.0 {
-        return 0.0;
-    }
-    // G = J Jᵀ with the rows a task leaves at zero (a planar arm's z)
-    // given a unit diagonal, so that they do not count as singular.
-    let mut g = vec![0.0; m * m];
-    for i in 0..m {
-        for j in 0..=i {
-            let v: f64 = (0..n).map(|c| jac.get(i, c) * jac.get(j, c)).sum();
-            g[i * m + j] = v;
-            g[j * m + i] = v;
-        }
-        if g[i * m + i] < 1e-18 {
-            g[i * m + i] = 1.0;
-        }
-    }
-    let Some(l) = cholesky(&g, m) else {
-        return config.damping.lambda_max.powi(2);
-    };
-    let mut x = vec![1.0; m];
-    let mut largest = 0.0;
-    for _ in 0..12 {
-        // y = G⁻¹ x by the two triangular solves.
-        for i in 0..m {
-            let s: f64 = x[i] - (0..i).map(|k| l[i * m + k] * x[k]).sum::<f64>();
-            x[i] = s / l[i * m + i];
-        }
-        for i in (0..m).rev() {
-            let s: f64 = x[i] - (i + 1..m).map(|k| l[k * m + i] * x[k]).sum::<f64>();
-            x[i] = s / l[i * m + i];
-        }
-        let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !(norm.is_finite() && norm > 0.0) {
-            return config.damping.lambda_max.powi(2);
-        }
-        largest = norm;
-        x.iter_mut().for_each(|v| *v /= norm);
-    }
-    let sigma2 = 1.0 / largest;
-    if sigma2 >= eps * eps {
-        0.0
-    } else {
-        (1.0 - sigma2 / (eps * eps)) * config.damping.lambda_max.powi(2)
-    }
-}
-
-/// The lower Cholesky factor of the `m × m` matrix `g`, or `None` when it
-/// is not positive definite.
-fn cholesky(g: &[f64], m: usize) -> Option<Vec<f64>> {
-    let mut l = vec![0.0; m * m];
-    for i in 0..m {
-        for j in 0..=i {
-            let s = g[i * m + j] - (0..j).map(|k| l[i * m + k] * l[j * m + k]).sum::<f64>();
-            if i == j {
-                if !(s > 1e-30 && s.is_finite()) {
-                    return None;
-                }
-                l[i * m + i] = s.sqrt();
-            } else {
-                l[i * m + j] = s / l[j * m + j];
-            }
-        }
-    }
-    Some(l)
-}
-
-/// The `constraints` avoidance: the joint velocity that best serves
-/// `tasks` under every guard (`min(bound, soft)`) and the velocity box
-/// `lo..hi`, into `out` (see the module docs).
+/// The `constraints` avoidance: the joint velocity that best serves the
+/// tasks under every limit — the joint box, each guard's protective bound
+/// (obstacle and self pairs) and its damper (soft) — into `out` (see the module docs). The list
+/// below is the registration of the limits: a new limit is one more entry.
 ///
 /// # Errors
 /// Only on inconsistent inputs (a task on a chain that does not exist).
-#[allow(clippy::too_many_arguments)]
 pub fn constrained_velocity(
-    robot: &Robot,
-    frames: &Frames,
-    tasks: &[TaskReference],
-    guards: &[Guard],
-    lo: &[f64],
-    hi: &[f64],
-    config: &ControllerConfig,
+    input: &ConstraintsInput,
     ws: &mut Workspace,
     out: &mut Vec<f64>,
 ) -> Result<Outcome, FieldError> {
-    let level = task_level(robot, frames, tasks, config, config.task_gain)?;
-    let (h, f) = objective(&level.jac, &level.rhs, config);
-    let rows: Vec<(&[f64], f64)> = guards
-        .iter()
-        .map(|g| (g.row.as_slice(), g.bound.min(g.soft)))
-        .collect();
-    let solution = qp::solve(&h, &f, &rows, lo, hi, INFEASIBLE_TOLERANCE, ws, out);
-    if solution.worst.is_none() {
-        return Ok(Outcome {
-            relaxed: false,
-            solution,
-        });
-    }
-    let rows: Vec<(&[f64], f64)> = guards.iter().map(|g| (g.row.as_slice(), g.bound)).collect();
-    let solution = qp::solve(&h, &f, &rows, lo, hi, INFEASIBLE_TOLERANCE, ws, out);
-    Ok(Outcome {
-        relaxed: true,
-        solution,
-    })
+    let config = input.config;
+    let task_context = TaskContext {
+        robot: input.robot,
+        frames: input.frames,
+        config,
+        gain: config.task_gain,
+    };
+    let tasks = stack_tasks(&task_context, input.tasks)?;
+    let guards = input.guards;
+    let limits: [&dyn Limit; 4] = [
+        &JointBox,
+        &ProtectiveBound { guards },
+        &SelfPairs { guards },
+        &VelocityDamper { guards },
+    ];
+    let stack = Stack {
+        tasks: &tasks,
+        limits: &limits,
+        context: LimitContext {
+            robot: input.robot,
+            q: input.q,
+            stop_time: input.stop_time,
+        },
+        config,
+    };
+    Ok(solve_stacked(&stack, ws, out))
 }

@@ -24,11 +24,14 @@
 //!   arm does anyway, at `h = 1` for the repulsion, continuously in between
 //!   (the intermediate desired value of Mansard, Khatib & Kheddar, 2009).
 
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 
+use super::rows::{
+    RepulsionTask, Task, TaskContext, TaskRows, end_effector, repulsion_rows, stack_tasks,
+};
 use super::{ActivePoint, ControllerConfig, TaskReference, activation, repulsion_speed};
 use crate::error::FieldError;
-use crate::kinematics::ik::{end_effector_jacobian, orientation_error};
+use crate::kinematics::ik::orientation_error;
 use crate::kinematics::{Frames, Robot};
 use crate::linalg::{Mat, dls_inverse};
 
@@ -70,108 +73,6 @@ fn prioritized(
     x
 }
 
-/// The avoidance rows `−nᵢᵀ J_θ,i` of the `n − 1` closest active points,
-/// with their activations.
-fn avoidance_rows(
-    robot: &Robot,
-    frames: &Frames,
-    points: &[ActivePoint],
-    config: &ControllerConfig,
-) -> (Mat, Vec<(usize, f64)>) {
-    let n = robot.dof();
-    let mut order: Vec<usize> = (0..points.len())
-        .filter(|&k| activation(points[k].distance, config) > 0.0)
-        .collect();
-    order.sort_by(|&a, &b| {
-        points[a]
-            .distance
-            .total_cmp(&points[b].distance)
-            .then(a.cmp(&b))
-    });
-    order.truncate(n.saturating_sub(1).max(1));
-    let mut jac = Mat::zeros(order.len(), n);
-    let mut which = Vec::with_capacity(order.len());
-    for (row, &k) in order.iter().enumerate() {
-        let p = &points[k];
-        let pj = p.dh.jacobians(robot, frames);
-        let dir = -p.normal;
-        for (c, col) in pj.j_theta.iter().enumerate() {
-            jac.set(row, c, dir.dot(*col));
-        }
-        which.push((k, activation(p.distance, config)));
-    }
-    (jac, which)
-}
-
-/// Rows of every task, stacked, with their velocity-level right-hand side
-/// (`ṗ_d + K (p_d − p)`, minus the moving-point terms of a point task) and
-/// their current positions.
-pub(super) struct TaskLevel {
-    pub(super) jac: Mat,
-    pub(super) rhs: Vec<f64>,
-}
-
-pub(super) fn task_level(
-    robot: &Robot,
-    frames: &Frames,
-    tasks: &[TaskReference],
-    config: &ControllerConfig,
-    gain: f64,
-) -> Result<TaskLevel, FieldError> {
-    let n = robot.dof();
-    let rows: usize = tasks.iter().map(TaskReference::rows).sum();
-    let mut jac = Mat::zeros(rows, n);
-    let mut rhs = Vec::with_capacity(rows);
-    let mut r0 = 0;
-    for task in tasks {
-        if let Some((dh, motion)) = task.point {
-            let pj = dh.jacobians(robot, frames);
-            for (c, col) in pj.j_theta.iter().enumerate() {
-                for (k, v) in col.to_array().iter().enumerate() {
-                    jac.set(r0 + k, c, *v);
-                }
-            }
-            let i = dh.link - 1;
-            let sliding = if config.moving_point_terms {
-                pj.j_a[i] * motion.a_rate + pj.j_d[i] * motion.d_rate
-            } else {
-                DVec3::ZERO
-            };
-            let v = task.velocity + gain * (task.position - pj.position) - sliding;
-            rhs.extend(v.to_array());
-            r0 += 3;
-            continue;
-        }
-        let (full, x, rot) = end_effector(robot, frames, task.chain)?;
-        let m = task.rows();
-        for r in 0..m {
-            for c in 0..n {
-                jac.set(r0 + r, c, full.get(r, c));
-            }
-        }
-        rhs.extend((task.velocity + gain * (task.position - x)).to_array());
-        if let Some(o) = task.orientation {
-            rhs.extend((gain * orientation_error(o, rot)).to_array());
-        }
-        r0 += m;
-    }
-    Ok(TaskLevel { jac, rhs })
-}
-
-fn end_effector(
-    robot: &Robot,
-    frames: &Frames,
-    chain: usize,
-) -> Result<(Mat, DVec3, DQuat), FieldError> {
-    let full = end_effector_jacobian(robot, frames, chain)?;
-    let ee = frames
-        .end_effectors
-        .get(chain)
-        .copied()
-        .unwrap_or(glam::DAffine3::IDENTITY);
-    Ok((full, ee.translation, DQuat::from_mat3(&ee.matrix3)))
-}
-
 /// Velocity mode: avoidance rows first (fading, see the module docs), the
 /// tasks in their null space. Returns the requested joint velocities, before
 /// the protective layer and the joint limits.
@@ -186,20 +87,25 @@ pub fn velocity_control(
     config: &ControllerConfig,
 ) -> Result<Vec<f64>, FieldError> {
     let n = robot.dof();
-    let level = task_level(robot, frames, tasks, config, config.task_gain)?;
+    let ctx = TaskContext {
+        robot,
+        frames,
+        config,
+        gain: config.task_gain,
+    };
+    let level = stack_tasks(&ctx, tasks)?;
     let alone = prioritized(&[(&level.jac, &level.rhs)], n, config, None);
-    let (avoid, which) = avoidance_rows(robot, frames, points, config);
-    if which.is_empty() {
+    let mut avoid = TaskRows::new(n);
+    RepulsionTask {
+        points,
+        alone: &alone,
+    }
+    .compute_rows(&ctx, &mut avoid)?;
+    if avoid.jac.rows == 0 {
         return Ok(alone);
     }
-    let now = avoid.mul_vec(&alone);
-    let r_avoid: Vec<f64> = which
-        .iter()
-        .zip(&now)
-        .map(|(&(k, h), v0)| h * repulsion_speed(points[k].distance, config) + (1.0 - h) * v0)
-        .collect();
     Ok(prioritized(
-        &[(&avoid, &r_avoid), (&level.jac, &level.rhs)],
+        &[(&avoid.jac, &avoid.rhs), (&level.jac, &level.rhs)],
         n,
         config,
         None,
@@ -268,6 +174,15 @@ pub fn torque_control(
     Ok((out, tau))
 }
 
+/// The joint positions and velocities of the arm now.
+#[derive(Clone, Copy, Debug)]
+pub struct JointState<'a> {
+    /// Joint positions.
+    pub q: &'a [f64],
+    /// Joint velocities.
+    pub qdot: &'a [f64],
+}
+
 /// `J̇ q̇` of the stacked task rows, by a forward difference of the
 /// Jacobians along `q̇` (step 1e-6 s).
 fn task_bias(
@@ -276,12 +191,18 @@ fn task_bias(
     qdot: &[f64],
     tasks: &[TaskReference],
     config: &ControllerConfig,
-    level: &TaskLevel,
+    level: &TaskRows,
 ) -> Result<Vec<f64>, FieldError> {
     const H: f64 = 1e-6;
     let q2: Vec<f64> = q.iter().zip(qdot).map(|(a, b)| a + H * b).collect();
     let f2 = robot.forward(&q2)?;
-    let later = task_level(robot, &f2, tasks, config, 0.0)?;
+    let ctx = TaskContext {
+        robot,
+        frames: &f2,
+        config,
+        gain: 0.0,
+    };
+    let later = stack_tasks(&ctx, tasks)?;
     let mut out = vec![0.0; level.jac.rows];
     for (r, o) in out.iter_mut().enumerate() {
         for (c, qd) in qdot.iter().enumerate() {
@@ -302,12 +223,10 @@ fn task_bias(
 ///
 /// # Errors
 /// Frames without velocities.
-#[allow(clippy::too_many_arguments)]
 pub fn clik2_control(
     robot: &Robot,
     frames: &Frames,
-    q: &[f64],
-    qdot: &[f64],
+    joints: JointState,
     points: &[ActivePoint],
     tasks: &[TaskReference],
     config: &ControllerConfig,
@@ -315,7 +234,14 @@ pub fn clik2_control(
 ) -> Result<Vec<f64>, FieldError> {
     let n = robot.dof();
     let g = config.clik2;
-    let level = task_level(robot, frames, tasks, config, 0.0)?;
+    let JointState { q, qdot } = joints;
+    let ctx = TaskContext {
+        robot,
+        frames,
+        config,
+        gain: 0.0,
+    };
+    let level = stack_tasks(&ctx, tasks)?;
     let v = level.jac.mul_vec(qdot);
     let bias = task_bias(robot, q, qdot, tasks, config, &level)?;
     let mut r_task = Vec::with_capacity(level.rhs.len());
@@ -341,7 +267,7 @@ pub fn clik2_control(
     }
     let damp: Vec<f64> = qdot.iter().map(|v| -g.kd * v).collect();
     let alone = prioritized(&[(&level.jac, &r_task)], n, config, Some(&damp));
-    let (avoid, which) = avoidance_rows(robot, frames, points, config);
+    let (avoid, which) = repulsion_rows(robot, frames, points, config);
     let qdd = if which.is_empty() {
         alone
     } else {

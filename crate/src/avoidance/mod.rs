@@ -9,6 +9,13 @@
 //! | protect | [`protect`] | every pair's approach speed bounded so the arm can stop before contact (a small QP) |
 //! | limit | [`limits`] | jerk-limited, synchronised tracking within velocity, acceleration, jerk and position limits |
 //!
+//! The rows the controllers stack — the limits (one-sided rows on `q̇`: the
+//! joint box, the protective bounds, the dampers) and the tasks — are types
+//! in [`rows`], one per file; [`qp::assemble`] stacks them for the
+//! `constraints` avoidance's QP ([`constraints`]). The jerk limiter
+//! [`limits`] is the *limit stage* that follows the controllers; a
+//! [`rows::Limit`] is a bound inside the QP.
+//!
 //! * **Control-point selection** ([`Selection`]): one point per
 //!   segment–obstacle pair within the influence distance, one per obstacle
 //!   (the closest point over the whole skeleton, the paper's fig. 4), or
@@ -44,9 +51,10 @@ pub mod control;
 pub mod limits;
 pub mod protect;
 pub mod qp;
+pub mod rows;
 pub mod selection;
 
-pub use control::{clik2_control, torque_control, velocity_control};
+pub use control::{JointState, clik2_control, torque_control, velocity_control};
 pub use protect::ProtectiveConfig;
 
 /// Which controller drives the joints.
@@ -308,6 +316,22 @@ impl ControllerConfig {
             ));
         }
         Ok(())
+    }
+
+    /// Whether a pair at clearance `distance` (m) lies beyond the influence
+    /// distance (and is left out of selection and guards). The one
+    /// influence test of the crate: a clearance that is not a number is
+    /// not beyond it.
+    #[must_use]
+    pub fn beyond_influence(&self, distance: f64) -> bool {
+        distance > self.influence_distance
+    }
+
+    /// Whether this controller solves the `constraints` avoidance (velocity
+    /// mode with `avoidance: constraints`).
+    #[must_use]
+    pub fn uses_constraints(&self) -> bool {
+        self.mode == Mode::Velocity && self.avoidance == Avoidance::Constraints
     }
 
     pub(crate) fn dls(&self) -> Damping {

@@ -87,7 +87,7 @@ pub fn select(
         match p.target {
             Target::Obstacle { id, .. } => {
                 let owner = owners[id as usize];
-                if p.distance - margins[owner] > config.influence_distance {
+                if config.beyond_influence(p.distance - margins[owner]) {
                     continue;
                 }
                 if config.selection == Selection::Pairs || config.switch_hysteresis > 0.0 {
@@ -102,7 +102,7 @@ pub fn select(
                 }
             }
             Target::Segment(other) => {
-                if p.distance > config.influence_distance {
+                if config.beyond_influence(p.distance) {
                     continue;
                 }
                 let here = SkeletonPoint {

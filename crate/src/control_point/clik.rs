@@ -10,7 +10,7 @@ use glam::DVec3;
 use super::DhPoint;
 use crate::error::FieldError;
 use crate::kinematics::{Frames, Robot};
-use crate::linalg::{Damping, Mat, dls_inverse};
+use crate::linalg::{Damping, DlsSettings, Mat, dls_inverse};
 
 /// Motion of a control point's own DH values during a transition: their
 /// current rates and accelerations (zero for a fixed point).
@@ -26,24 +26,35 @@ pub struct PointMotion {
     pub d_accel: f64,
 }
 
+/// The Cartesian reference of a control point: where it should be, how
+/// fast it should move, and (second order) how it should accelerate.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PointTarget {
+    /// Desired position `p_d` (m).
+    pub position: DVec3,
+    /// Desired velocity `ṗ_d` (m/s).
+    pub velocity: DVec3,
+    /// Desired acceleration `p̈_d` (m/s²; second order only).
+    pub acceleration: DVec3,
+}
+
 /// First-order CLIK for a moving control point (eq. 4 with position-error
 /// feedback):
 /// `θ̇ = J_θ,W^† (ṗ_d + K (p_d − p) − J_a ȧ − J_d ḋ)`.
 ///
 /// Returns the joint speeds (not yet limited). `frames` need no velocities.
 #[must_use]
-#[allow(clippy::too_many_arguments)]
 pub fn clik_first_order(
     robot: &Robot,
     frames: &Frames,
     point: &DhPoint,
     motion: &PointMotion,
-    target: DVec3,
-    target_velocity: DVec3,
+    target: &PointTarget,
     gain: f64,
-    weights: &[f64],
-    damping: Damping,
+    dls: DlsSettings,
 ) -> Vec<f64> {
+    let (target, target_velocity) = (target.position, target.velocity);
+    let DlsSettings { weights, damping } = dls;
     let jac = point.jacobians(robot, frames);
     let i = point.link - 1;
     let drift = jac.j_a[i] * motion.a_rate + jac.j_d[i] * motion.d_rate;
@@ -59,19 +70,21 @@ pub fn clik_first_order(
 ///
 /// # Errors
 /// Frames without velocities.
-#[allow(clippy::too_many_arguments)]
 pub fn clik_second_order(
     robot: &Robot,
     frames: &Frames,
     point: &DhPoint,
     motion: &PointMotion,
-    target: DVec3,
-    target_velocity: DVec3,
-    target_acceleration: DVec3,
+    target: &PointTarget,
     gains: (f64, f64),
-    weights: &[f64],
-    damping: Damping,
+    dls: DlsSettings,
 ) -> Result<Vec<f64>, FieldError> {
+    let PointTarget {
+        position: target,
+        velocity: target_velocity,
+        acceleration: target_acceleration,
+    } = *target;
+    let DlsSettings { weights, damping } = dls;
     let jac = point.jacobians(robot, frames);
     let rates = point.jacobian_rates(robot, frames, motion.a_rate, motion.d_rate)?;
     let i = point.link - 1;
@@ -166,11 +179,15 @@ pub fn solve_position(
             &frames,
             point,
             &PointMotion::default(),
-            target,
-            DVec3::ZERO,
+            &PointTarget {
+                position: target,
+                ..PointTarget::default()
+            },
             options.gain,
-            &[],
-            options.damping,
+            DlsSettings {
+                weights: &[],
+                damping: options.damping,
+            },
         );
         for ((v, qd), j) in q.iter_mut().zip(&qdot).zip(&robot.joints) {
             let qd = qd.clamp(-j.max_velocity, j.max_velocity);

@@ -43,11 +43,11 @@
 
 mod align;
 mod coverage;
-mod urdf;
+mod robot_meshes;
 
 pub use align::{SAME_ARM_TOLERANCE, bodies_onto, rigid_fit};
 pub use coverage::{BodyCoverage, Coverage, CoverageOptions, coverage};
-pub use urdf::{UrdfFit, fit_urdf, path_components, resolve_mesh, urdf_bodies};
+pub use robot_meshes::{UrdfFit, fit_urdf, urdf_bodies};
 
 use glam::DVec3;
 

@@ -11,7 +11,7 @@ use glam::{DQuat, DVec3};
 use super::{Frames, JointType, Robot};
 use crate::error::FieldError;
 
-use crate::linalg::{Damping, Mat, dls_inverse};
+use crate::linalg::{DlsSettings, Mat, dls_inverse};
 
 /// Geometric Jacobian (6 × n: linear rows, then angular) of the end effector
 /// of chain `chain` (0 = main chain).
@@ -76,7 +76,6 @@ pub fn orientation_error(desired: DQuat, current: DQuat) -> DVec3 {
 ///
 /// # Errors
 /// An unknown chain.
-#[allow(clippy::too_many_arguments)]
 pub fn clik_pose(
     robot: &Robot,
     frames: &Frames,
@@ -84,9 +83,9 @@ pub fn clik_pose(
     target: (DVec3, DQuat),
     target_twist: (DVec3, DVec3),
     gains: (f64, f64),
-    weights: &[f64],
-    damping: Damping,
+    dls: DlsSettings,
 ) -> Result<Vec<f64>, FieldError> {
+    let DlsSettings { weights, damping } = dls;
     let jac = end_effector_jacobian(robot, frames, chain)?;
     let ee = frames.end_effectors[chain];
     let (_, rotation, position) = ee.to_scale_rotation_translation();

@@ -12,12 +12,16 @@
 //! frame `j`); frame 0 is the base. Several chains may share the base: the
 //! rows of [`RobotSpec::joints`] come first, then those of every branch, and
 //! each row records the frame it starts from ([`Joint::parent`]).
+//!
+//! A robot's DH table from its joint axes ([`dh_from_axes`]) is the
+//! kinematics of the URDF reader ([`crate::parsers::urdf`]); reading files
+//! is not done here.
 
+pub mod dh_from_axes;
 mod frames;
 pub mod ik;
 pub mod presets;
 mod spec;
-pub mod urdf;
 
 use glam::{DAffine3, DQuat};
 

@@ -139,7 +139,7 @@ fn struct_fields(name: &str) -> Option<&'static [&'static str]> {
         fields_of::<JointSpec>,
         fields_of::<BranchSpec>,
         fields_of::<RobotSpec>,
-        fields_of::<crate::kinematics::urdf::UrdfOptions>,
+        fields_of::<crate::parsers::urdf::UrdfOptions>,
     ];
     KNOWN
         .iter()

@@ -12,8 +12,8 @@ use super::boundary::read_urdf_options;
 use super::convert::{from_json_at, js_error, to_js};
 use crate::error::FieldError;
 use crate::fitting::{UrdfFit, fit_urdf};
-use crate::kinematics::urdf::{self, UrdfOptions};
-use crate::mesh::MAX_MESH_BYTES;
+use crate::parsers::mesh::MAX_MESH_BYTES;
+use crate::parsers::urdf::{self, UrdfOptions};
 
 fn xml_of(xml: JsValue) -> Result<String, JsError> {
     xml.as_string().ok_or_else(|| {

@@ -9,16 +9,15 @@
 //! ([`crate::avoidance::protect::Guard::escape`]). After the controller, [`World::protect`] projects
 //! the request onto the protective bounds (a no-op for the `constraints`
 //! avoidance, whose request already meets them) and stops the arm when no
-//! admissible motion keeps a pair safe.
+//! admissible motion keeps a pair safe. The arithmetic of the bounds lives
+//! in [`crate::avoidance::protect`]; here only the world's state and events.
 
 use std::collections::BTreeSet;
 
 use super::{StopReason, World};
-use crate::avoidance::constraints::INFEASIBLE_TOLERANCE;
-use crate::avoidance::limits::{braking_time, cap_for_stop_time, velocity_box};
-use crate::avoidance::protect::{self, Damper, GuardPair};
+use crate::avoidance::ControllerConfig;
+use crate::avoidance::protect::{self, GuardContext, GuardPair};
 use crate::avoidance::selection::fraction_on;
-use crate::avoidance::{Avoidance, ControllerConfig, Mode};
 use crate::dependability::EventKind;
 use crate::distance::{PairDistance, Primitive, Target, distance};
 use crate::error::FieldError;
@@ -27,7 +26,7 @@ use crate::skeleton::Skeleton;
 impl World {
     /// Whether this controller solves the `constraints` avoidance.
     pub(super) fn uses_constraints(cfg: &ControllerConfig) -> bool {
-        cfg.mode == Mode::Velocity && cfg.avoidance == Avoidance::Constraints
+        cfg.uses_constraints()
     }
 
     /// The pairs the protective layer guards: every pair within the
@@ -69,7 +68,7 @@ impl World {
                     (p.distance, None, Some((other, u)), 0.0, None)
                 }
             };
-            if distance > cfg.influence_distance {
+            if cfg.beyond_influence(distance) {
                 continue;
             }
             out.push(GuardPair {
@@ -145,7 +144,7 @@ impl World {
             };
             let margin = self.obstacles[o].part_margin(self.part_index[part]);
             let clearance = d.distance - Skeleton::radius_at(seg, t) - margin;
-            if clearance > cfg.influence_distance || d.distance <= 0.0 {
+            if cfg.beyond_influence(clearance) || d.distance <= 0.0 {
                 continue;
             }
             out.push(GuardPair {
@@ -163,8 +162,9 @@ impl World {
 
     /// The guards of this step (before the control stage): protective
     /// bounds, dampers, the time-to-collision slowdown, and the escape from
-    /// obstacles that close in faster than the arm could stop. An obstacle
-    /// with no admissible escape is remembered in `self.doomed`.
+    /// obstacles that close in faster than the arm could stop
+    /// ([`protect::prepare`]). An obstacle with no admissible escape is
+    /// remembered in `self.doomed`.
     pub(super) fn prepare_guards(
         &mut self,
         cfg: &ControllerConfig,
@@ -173,133 +173,53 @@ impl World {
     ) -> Result<(), FieldError> {
         self.doomed = None;
         self.stop_time = f64::INFINITY;
-        let p = cfg.protective;
-        if !p.enabled {
+        if !cfg.protective.enabled {
             self.guards.clear();
             return Ok(());
         }
         self.guard_pairs(cfg, pairs);
-        self.stop_time = self.stop_time(cfg, dt);
-        let braking = braking_time(&self.robot, &self.motion, dt);
-        let floor = if self.stopped { 0.0 } else { f64::NEG_INFINITY };
-        let damper = Self::uses_constraints(cfg).then_some(Damper {
-            gain: cfg.max_repulsion_speed,
-            band: cfg.safety_band,
-            influence: cfg.influence_distance,
-        });
+        self.stop_time = protect::stop_time(&self.guard_pairs, cfg, self.stopped, dt);
         let mut guards = std::mem::take(&mut self.guards);
-        protect::guards(
-            &self.robot,
-            &self.frames,
-            &self.skeleton,
-            &self.guard_pairs,
-            &p,
-            braking,
-            floor,
-            damper.as_ref(),
-            &mut guards,
-        )?;
-        let (lo, hi) = self.admissible_box();
-        for (k, g) in guards.iter_mut().enumerate() {
-            // Time to collision shorter than a transition plus braking: the
-            // approach to that obstacle is slowed (retreat is left free).
-            if let Some(o) = g.obstacle
-                && g.bound > 0.0
-            {
-                g.bound *= self.slowdown.get(o).copied().unwrap_or(1.0);
-            }
-            // An obstacle closing in faster than the arm could stop: escape
-            // along the row if the joints can outrun it, else stop now.
-            if g.obstacle_speed > 0.0 && g.bound < 0.0 && !self.stopped {
-                match g.escape(&self.robot, &self.motion.qdot, &lo, &hi, &p) {
-                    Some(b) => g.bound = b,
-                    None if self.doomed.is_none() => {
-                        let excess = g.approach(&self.motion.qdot) - g.bound;
-                        self.doomed = Some((k, excess.max(0.0)));
-                    }
-                    None => {}
-                }
-            }
-        }
+        let ctx = self.guard_context(cfg, dt);
+        self.doomed = protect::prepare(&ctx, &self.guard_pairs, &self.slowdown, &mut guards)?;
         self.guards = guards;
         Ok(())
     }
 
-    /// The time within which the joints must be able to stop: for every
-    /// obstacle closing in at `v_h` with room `d − d_s` above the safety
-    /// distance, `(d − d_s) / v_h − T_r − dt`, the smallest of them (`∞`
-    /// when nothing closes in or during a stop).
-    ///
-    /// The guards bound the arm's approach; this bounds its speed, so that
-    /// whatever the arm is doing — escaping an obstacle that appeared next
-    /// to it included — stopping still ends before the obstacle closes the
-    /// gap. Without it an escape at full speed that later ran out of room
-    /// (a joint limit, the row turning) ended in a stop that was still
-    /// braking when the obstacle arrived: contact while moving.
-    fn stop_time(&self, cfg: &ControllerConfig, dt: f64) -> f64 {
-        if self.stopped {
-            return f64::INFINITY;
+    /// What the guards are computed from, now.
+    fn guard_context<'a>(&'a self, cfg: &'a ControllerConfig, dt: f64) -> GuardContext<'a> {
+        GuardContext {
+            robot: &self.robot,
+            frames: &self.frames,
+            skeleton: &self.skeleton,
+            q: &self.q,
+            motion: &self.motion,
+            stopped: self.stopped,
+            stop_time: self.stop_time,
+            dt,
+            config: cfg,
         }
-        let p = cfg.protective;
-        self.guard_pairs
-            .iter()
-            .filter(|g| g.obstacle.is_some() && g.obstacle_speed > 0.0)
-            .map(|g| (g.distance - p.safety_distance) / g.obstacle_speed - p.reaction_time - dt)
-            .fold(f64::INFINITY, f64::min)
-    }
-
-    /// The admissible velocity box now: the joints' speed limits, the
-    /// braking caps of their position limits, and the stop time of the
-    /// obstacles closing in ([`Self::stop_time`]).
-    pub(super) fn admissible_box(&self) -> (Vec<f64>, Vec<f64>) {
-        let (mut lo, mut hi) = velocity_box(&self.robot, &self.q);
-        cap_for_stop_time(&self.robot, self.stop_time, &mut lo, &mut hi);
-        (lo, hi)
     }
 
     /// Stage 7: the protective layer. Projects the request onto the guards
-    /// and the admissible velocity box; when no admissible motion keeps a
-    /// pair safe the arm stops (`unavoidable`). Returns whether every guard
-    /// of an approaching obstacle holds with the arm at rest (a stop after
-    /// an unavoidable approach may then end; static and receding obstacles
-    /// are backed out of instead).
+    /// and the admissible velocity box ([`protect::protect`]); when no
+    /// admissible motion keeps a pair safe the arm stops (`unavoidable`).
+    /// Returns whether every guard of an approaching obstacle holds with
+    /// the arm at rest (a stop after an unavoidable approach may then end;
+    /// static and receding obstacles are backed out of instead).
     pub(super) fn protect(&mut self, cfg: &ControllerConfig, dt: f64) -> bool {
-        let p = cfg.protective;
-        if !p.enabled {
+        if !cfg.protective.enabled {
             return true;
         }
-        let braking = braking_time(&self.robot, &self.motion, dt);
         let guards = std::mem::take(&mut self.guards);
-        // Emergency brake: the arm already closes in faster than a guard
-        // allows (the limiter lags a sudden change of the guards).
-        self.braking = guards.iter().any(|g| g.breached(&self.motion.qdot));
-        if self.braking {
-            self.request.iter_mut().for_each(|v| *v = 0.0);
-        }
-        let all_hold = self.guard_pairs.iter().all(|g| {
-            g.obstacle_speed <= 0.0 || p.bound(g.distance, g.obstacle_speed, braking) >= 0.0
-        });
-        let (lo, hi) = self.admissible_box();
-        let weights = cfg.joint_weights.as_deref().unwrap_or(&[]);
-        let mut out = Vec::with_capacity(self.request.len());
-        let result = protect::project(&self.request, weights, &lo, &hi, &guards, &mut out);
-        self.request = out;
-        // A guard the joints cannot meet right now is no reason to stop
-        // while the arm can still outrun its obstacle ([`crate::avoidance::protect::Guard::escape`]):
-        // the request is the closest admissible retreat.
-        let infeasible = result
-            .worst
-            .filter(|_| result.violation > INFEASIBLE_TOLERANCE)
-            .filter(|&k| {
-                let g = &guards[k];
-                g.obstacle_speed <= 0.0
-                    || g.escape(&self.robot, &self.motion.qdot, &lo, &hi, &p)
-                        .is_none()
-            })
-            .map(|k| (k, result.violation));
-        let doomed = infeasible.or(self.doomed);
+        let mut request = std::mem::take(&mut self.request);
+        let ctx = self.guard_context(cfg, dt);
+        let outcome = protect::protect(&ctx, &self.guard_pairs, &guards, self.doomed, &mut request);
+        self.request = request;
+        self.braking = outcome.braking;
+        let braking = outcome.braking_time;
         let mut now = BTreeSet::new();
-        if let Some((k, excess)) = doomed.filter(|_| !self.stopped) {
+        if let Some((k, excess)) = outcome.doomed.filter(|_| !self.stopped) {
             let g = &guards[k];
             let key = g.obstacle.unwrap_or(usize::MAX);
             now.insert(key);
@@ -326,6 +246,6 @@ impl World {
         }
         self.unavoidable = now;
         self.guards = guards;
-        all_hold
+        outcome.all_hold
     }
 }

@@ -8,9 +8,9 @@ use std::collections::BTreeMap;
 use crate::avoidance::ControllerConfig;
 use crate::distance::{BroadPhase, QueryOptions, Scene, Target};
 use crate::error::FieldError;
-use crate::kinematics::urdf::report::{JointReport, StartContact, UrdfImport};
-use crate::kinematics::urdf::{self, UrdfOptions};
 use crate::kinematics::{Robot, RobotSpec};
+use crate::parsers::urdf::report::{JointReport, StartContact, UrdfImport};
+use crate::parsers::urdf::{self, UrdfOptions};
 use crate::skeleton::Skeleton;
 
 /// [`urdf::import_urdf`] with `report.startContacts` filled in.

@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::{MAX_EVENTS, StopReason, World};
-use crate::avoidance::constraints::constrained_velocity;
+use crate::avoidance::constraints::{ConstraintsInput, constrained_velocity};
 use crate::avoidance::limits::{self, braking_time};
 use crate::avoidance::selection::{self, Key, fraction_on};
 use crate::avoidance::{self, ActivePoint, ControllerConfig, Mode};
@@ -392,19 +392,17 @@ impl World {
         );
         self.references = refs;
         if Self::uses_constraints(cfg) {
-            let (lo, hi) = self.admissible_box();
+            let input = ConstraintsInput {
+                robot: &self.robot,
+                frames: &self.frames,
+                q: &self.q,
+                stop_time: self.stop_time,
+                tasks: &self.references,
+                guards: &self.guards,
+                config: cfg,
+            };
             let mut out = std::mem::take(&mut self.request);
-            let outcome = constrained_velocity(
-                &self.robot,
-                &self.frames,
-                &self.references,
-                &self.guards,
-                &lo,
-                &hi,
-                cfg,
-                &mut self.qp,
-                &mut out,
-            )?;
+            let outcome = constrained_velocity(&input, &mut self.qp, &mut out)?;
             self.relaxed = outcome.relaxed;
             self.request = out;
         } else {
@@ -434,7 +432,10 @@ impl World {
             Mode::Torque => {
                 avoidance::torque_control(robot, frames, qdot, active, refs, cfg, dt)?.0
             }
-            Mode::Clik2 => avoidance::clik2_control(robot, frames, q, qdot, active, refs, cfg, dt)?,
+            Mode::Clik2 => {
+                let joints = avoidance::JointState { q, qdot };
+                avoidance::clik2_control(robot, frames, joints, active, refs, cfg, dt)?
+            }
         })
     }
 

@@ -30,7 +30,9 @@
 //! last iterate clamped to the box, and [`Solution::worst`] names the row
 //! violated most, which the caller reports.
 
-use crate::linalg::Mat;
+use crate::linalg::{Mat, cholesky_into};
+
+pub mod assemble;
 
 /// Active-set steps at most per solve, beyond `3 (m + 2n)`: a guard against
 /// cycling on degenerate problems (never reached in the tests and
@@ -145,22 +147,10 @@ impl Constraints<'_> {
 /// `J = L⁻ᵀ` of `h = L Lᵀ` into `ws.j`; `false` when `h` is not positive
 /// definite.
 fn factor(h: &[f64], n: usize, ws: &mut Workspace) -> bool {
-    let l = &mut ws.l;
-    l.clear();
-    l.resize(n * n, 0.0);
-    for i in 0..n {
-        for j in 0..=i {
-            let s = h[i * n + j] - (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum::<f64>();
-            if i == j {
-                if !(s > 0.0 && s.is_finite()) {
-                    return false;
-                }
-                l[i * n + i] = s.sqrt();
-            } else {
-                l[i * n + j] = s / l[j * n + j];
-            }
-        }
+    if !cholesky_into(h, n, 0.0, &mut ws.l) {
+        return false;
     }
+    let l = &ws.l;
     // Column c of L⁻¹ by forward substitution; J = (L⁻¹)ᵀ, so it is row c of J.
     ws.j.clear();
     ws.j.resize(n * n, 0.0);
@@ -184,23 +174,29 @@ fn rotate_columns(m: &mut [f64], n: usize, a: usize, b: usize, c: f64, s: f64) {
     }
 }
 
-/// Solves the QP of the module docs into `x`. `rows[k]` is `(aₖ, bₖ)`;
-/// `tolerance` (m/s) is the violation beyond which a row is reported in
-/// [`Solution::worst`].
+/// One problem of the module docs: `minimise ½ xᵀ H x − fᵀ x` subject to
+/// `aₖᵀ x ≤ bₖ` for every `(aₖ, bₖ)` in `rows` and `lo ≤ x ≤ hi`.
+#[derive(Clone, Copy, Debug)]
+pub struct Problem<'a> {
+    /// `H`, symmetric positive definite (`n × n`).
+    pub h: &'a Mat,
+    /// `f` (`n` values).
+    pub f: &'a [f64],
+    /// The rows `(aₖ, bₖ)`.
+    pub rows: &'a [(&'a [f64], f64)],
+    /// Lower bounds of `x`.
+    pub lo: &'a [f64],
+    /// Upper bounds of `x`.
+    pub hi: &'a [f64],
+}
+
+/// Solves `problem` into `x`; `tolerance` (m/s) is the violation beyond
+/// which a row is reported in [`Solution::worst`].
 ///
 /// A non-positive-definite `h` (only a bug upstream) gives `x = 0`
 /// clamped to the box.
-#[allow(clippy::too_many_arguments)]
-pub fn solve(
-    h: &Mat,
-    f: &[f64],
-    rows: &[(&[f64], f64)],
-    lo: &[f64],
-    hi: &[f64],
-    tolerance: f64,
-    ws: &mut Workspace,
-    x: &mut Vec<f64>,
-) -> Solution {
+pub fn solve(problem: &Problem, tolerance: f64, ws: &mut Workspace, x: &mut Vec<f64>) -> Solution {
+    let Problem { h, f, rows, lo, hi } = *problem;
     let n = f.len();
     x.clear();
     x.resize(n, 0.0);

@@ -39,7 +39,12 @@ fn unconstrained_is_the_newton_step_and_the_factor_is_exact() {
     let f = [1.0, -2.0, 0.5];
     let mut x = Vec::new();
     let mut ws = Workspace::default();
-    let s = solve(&h, &f, &[], &[-9.0; 3], &[9.0; 3], 1e-9, &mut ws, &mut x);
+    let s = solve(
+        &problem(&h, &f, &[], &[-9.0; 3], &[9.0; 3]),
+        1e-9,
+        &mut ws,
+        &mut x,
+    );
     let hx = h.mul_vec(&x);
     for (a, b) in hx.iter().zip(&f) {
         assert!((a - b).abs() < 1e-12);
@@ -58,11 +63,7 @@ fn one_active_row_matches_the_closed_form_in_the_h_metric() {
     let mut x = Vec::new();
     let mut ws = Workspace::default();
     let s = solve(
-        &h,
-        &f,
-        &[(&a, b)],
-        &[-9.0; 2],
-        &[9.0; 2],
+        &problem(&h, &f, &[(&a, b)], &[-9.0; 2], &[9.0; 2]),
         1e-9,
         &mut ws,
         &mut x,
@@ -88,7 +89,7 @@ fn solution_is_optimal_among_feasible_neighbours() {
     let (lo, hi) = ([-1.0; 3], [1.0, 0.8, 1.0]);
     let mut x = Vec::new();
     let mut ws = Workspace::default();
-    let s = solve(&h, &f, &rows, &lo, &hi, 1e-9, &mut ws, &mut x);
+    let s = solve(&problem(&h, &f, &rows, &lo, &hi), 1e-9, &mut ws, &mut x);
     assert!(s.worst.is_none(), "{s:?}");
     let obj = |y: &[f64]| {
         let hy = h.mul_vec(y);
@@ -120,11 +121,7 @@ fn infeasible_rows_are_reported() {
     let mut x = Vec::new();
     let mut ws = Workspace::default();
     let s = solve(
-        &h,
-        &[0.0, 0.0],
-        &[(&a, -3.0)],
-        &[-2.0; 2],
-        &[2.0; 2],
+        &problem(&h, &[0.0, 0.0], &[(&a, -3.0)], &[-2.0; 2], &[2.0; 2]),
         1e-6,
         &mut ws,
         &mut x,
@@ -162,11 +159,21 @@ fn solve_square(mut a: Vec<f64>, mut b: Vec<f64>) -> Option<Vec<f64>> {
     Some(y)
 }
 
+/// The problem of `h`, `f`, `rows` and the box `lo..hi`.
+fn problem<'a>(
+    h: &'a Mat,
+    f: &'a [f64],
+    rows: &'a [(&'a [f64], f64)],
+    lo: &'a [f64],
+    hi: &'a [f64],
+) -> Problem<'a> {
+    Problem { h, f, rows, lo, hi }
+}
+
 /// The KKT conditions, checked independently of the solver: the
 /// constraints active at `x` (slack under 1e-9) get multipliers by least
 /// squares on `H x − f + Σ λₖ aₖ = 0`; the residual must vanish and
 /// every multiplier be non-negative.
-#[allow(clippy::too_many_arguments)]
 fn assert_kkt(h: &Mat, f: &[f64], rows: &[(Vec<f64>, f64)], lo: &[f64], hi: &[f64], x: &[f64]) {
     let n = f.len();
     let mut normals: Vec<Vec<f64>> = Vec::new();
@@ -251,7 +258,7 @@ fn random_ill_conditioned_problems_meet_the_kkt_conditions() {
         let view: Vec<(&[f64], f64)> = rows.iter().map(|(a, b)| (a.as_slice(), *b)).collect();
         let mut x = Vec::new();
         let mut ws = Workspace::default();
-        let s = solve(&h, &f, &view, &lo, &hi, 1e-9, &mut ws, &mut x);
+        let s = solve(&problem(&h, &f, &view, &lo, &hi), 1e-9, &mut ws, &mut x);
         assert!(s.worst.is_none(), "trial {trial}: {s:?}");
         assert_kkt(&h, &f, &rows, &lo, &hi, &x);
         active_total += ws.active.len();
@@ -280,7 +287,7 @@ fn dependent_rows_are_handled() {
     let (lo, hi) = ([-1.0; 3], [0.5, 0.8, 1.0]);
     let mut x = Vec::new();
     let mut ws = Workspace::default();
-    let s = solve(&h, &f, &view, &lo, &hi, 1e-9, &mut ws, &mut x);
+    let s = solve(&problem(&h, &f, &view, &lo, &hi), 1e-9, &mut ws, &mut x);
     assert!(s.worst.is_none(), "{s:?}");
     let independent = [rows[0].clone(), rows[3].clone()];
     assert_kkt(&h, &f, &independent, &lo, &[f64::INFINITY, 0.8, 1.0], &x);

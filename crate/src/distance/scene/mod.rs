@@ -21,12 +21,12 @@ use super::{
 use crate::error::{FieldError, finite3, non_negative};
 use crate::skeleton::Skeleton;
 
-mod bvh;
+mod box_tree;
 mod nearest;
 
 pub use nearest::Nearest;
 
-use bvh::{Aabb, Bvh, bounds_of};
+use box_tree::{Aabb, BoxTree, bounds_of};
 
 /// An obstacle: a primitive with a caller-chosen id.
 #[derive(Clone, Debug, PartialEq)]
@@ -125,7 +125,7 @@ pub struct Scene {
     obstacles: Vec<Obstacle>,
     bounds: Vec<Aabb>,
     unbounded: Vec<usize>,
-    bvh: Bvh,
+    tree: BoxTree,
 }
 
 impl Scene {
@@ -145,7 +145,7 @@ impl Scene {
         let (finite, unbounded): (Vec<usize>, Vec<usize>) =
             (0..self.obstacles.len()).partition(|&i| self.bounds[i].is_finite());
         self.unbounded = unbounded;
-        self.bvh = Bvh::build(&self.bounds, finite);
+        self.tree = BoxTree::build(&self.bounds, finite);
     }
 
     /// The obstacles, in order.
@@ -222,7 +222,7 @@ impl Scene {
             candidates.clear();
             match options.broad_phase {
                 BroadPhase::Hierarchy => {
-                    self.bvh.query(&reach, &mut candidates);
+                    self.tree.query(&reach, &mut candidates);
                     candidates.extend_from_slice(&self.unbounded);
                     candidates.sort_unstable();
                 }

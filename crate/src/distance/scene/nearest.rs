@@ -19,7 +19,7 @@
 //! (unbounded) and points and balls (cheaper to measure than to bound);
 //! those are measured first.
 
-use super::bvh::bounds_of;
+use super::box_tree::bounds_of;
 use super::{DistanceError, PairDistance, Scene, Target, axis_of, pair, volumes};
 use crate::distance::cuboid::segment_aabb_distance2;
 use crate::distance::{Primitive, distance};
@@ -60,7 +60,7 @@ impl Scene {
         for (i, vol) in volumes.iter().enumerate() {
             let (s0, s1, rmax) = axis_of(vol);
             near.clear();
-            self.bvh.query(&bounds_of(vol).grown(influence), &mut near);
+            self.tree.query(&bounds_of(vol).grown(influence), &mut near);
             near.extend_from_slice(&self.unbounded);
             for &j in &near {
                 let b = &self.bounds[j];

@@ -169,7 +169,7 @@ fn a_sheet_keeps_its_border_and_stays_flat() {
 #[test]
 fn a_published_link_mesh_stays_within_a_millimetre_and_a_half() {
     let bytes = include_bytes!("../../../tests/data/meshes/iiwa14/collision/link_1.stl");
-    let mesh = crate::mesh::load_mesh("link_1.stl", bytes, &mut |_| None).unwrap();
+    let mesh = crate::parsers::mesh::load_mesh("link_1.stl", bytes, &mut |_| None).unwrap();
     // Merge the STL's repeated corners first, as the viewer does.
     let mut index = HashMap::new();
     let mut v = Vec::new();

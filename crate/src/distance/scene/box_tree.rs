@@ -1,6 +1,8 @@
 //! The broad phase of the scene query: axis-aligned boxes of the primitives
-//! (infinite for planes) and a bounding-volume hierarchy over the finite
-//! ones, built by a median split on the widest axis.
+//! (infinite for planes) and a tree of boxes over the finite ones (a
+//! bounding-volume hierarchy, [`BoxTree`]), built by a median split on the
+//! widest axis. (`bvh` in this crate names the motion-capture format read by
+//! `crate::parsers::track::bvh`, not this tree.)
 
 use glam::DVec3;
 
@@ -100,26 +102,27 @@ enum Node {
     },
 }
 
-/// A bounding-volume hierarchy over finite boxes.
+/// A bounding-volume hierarchy over finite boxes: a binary tree whose
+/// leaves hold a few items each.
 #[derive(Clone, Debug, Default)]
-pub(super) struct Bvh {
+pub(super) struct BoxTree {
     nodes: Vec<Node>,
     items: Vec<usize>,
 }
 
-impl Bvh {
+impl BoxTree {
     const LEAF: usize = 4;
 
     pub(super) fn build(bounds: &[Aabb], items: Vec<usize>) -> Self {
-        let mut bvh = Self {
+        let mut tree = Self {
             nodes: Vec::new(),
             items,
         };
-        if !bvh.items.is_empty() {
-            let n = bvh.items.len();
-            bvh.split(bounds, 0, n);
+        if !tree.items.is_empty() {
+            let n = tree.items.len();
+            tree.split(bounds, 0, n);
         }
-        bvh
+        tree
     }
 
     fn split(&mut self, bounds: &[Aabb], start: usize, end: usize) -> usize {

@@ -1,4 +1,4 @@
-//! Which joints of a BVH skeleton are the body's shoulders, elbows, wrists,
+//! Which joints of a BVH hierarchy are the body's shoulders, elbows, wrists,
 //! hips, knees, ankles and head: found by name, CMU style first
 //! (`LeftArm`, `LeftForeArm`, `LeftHand`, `LeftUpLeg`, `LeftLeg`,
 //! `LeftFoot`, `Head`, under a root `Hips`), with aliases.
@@ -67,13 +67,13 @@ fn aliases_text(aliases: &[&str], side: &str) -> String {
     }
 }
 
-/// For each of [`super::NEEDED`] the joint that gives it, and whether its
+/// For each of [`NEEDED`](crate::parsers::track::NEEDED) the joint that gives it, and whether its
 /// `End Site` is averaged in (the head).
 ///
 /// # Errors
 /// `ROOT: … is not a hips joint …` (no `Hips`, `Hip` or `Pelvis` in the
-/// skeleton), `HIERARCHY: no joint for the left elbow …`.
-pub(crate) fn map(h: &Hierarchy) -> Result<[(usize, bool); 14], FieldError> {
+/// hierarchy), `HIERARCHY: no joint for the left elbow …`.
+pub(super) fn body_joints(h: &Hierarchy) -> Result<[(usize, bool); 14], FieldError> {
     let names: Vec<String> = h.joints.iter().map(|j| normalise(&j.name)).collect();
     if find(&names, HIPS, None).is_none() {
         return Err(FieldError::new(

@@ -5,8 +5,8 @@
 //! without primitive collision geometry, the joints outside the chain, and
 //! the pairs of links that overlap at the zero configuration (by their URDF
 //! names: an import that starts in self-collision says where; computed by
-//! `world::import_urdf`, since skeletons and distances are built on this
-//! layer).
+//! `world::import_urdf`, since the reader builds no skeleton and measures
+//! no distance).
 //!
 //! Also the cleaning of the DH table: values within [`DUST`] of 0, ±π/2 or
 //! ±π are set to them exactly (`-1.11e-16` → `0`, `-0` → `0`).
@@ -135,13 +135,13 @@ fn row_links(urdf: &urdf_rs::Robot, path: &[usize]) -> Vec<Vec<String>> {
 }
 
 /// The largest primitive collision radius of `link` (see
-/// [`super::primitive_radius`]), `None` when it has none.
+/// [`super::chain::primitive_radius`]), `None` when it has none.
 fn link_radius(link: &urdf_rs::Link) -> Option<f64> {
     link.collision
         .iter()
         .filter_map(|c| match c.geometry {
             Geometry::Mesh { .. } => None,
-            ref g => super::primitive_radius(g),
+            ref g => super::chain::primitive_radius(g),
         })
         .filter(|r| r.is_finite())
         .reduce(f64::max)

@@ -1,5 +1,8 @@
-//! A URDF with its mesh files: the robot spec with fitted volumes, and how
-//! well the volumes cover the collision meshes before and after.
+//! A robot described by a URDF with its mesh files: the robot spec with
+//! fitted volumes, and how well the volumes cover the collision meshes
+//! before and after. The URDF and the meshes are read by
+//! [`crate::parsers::urdf`] and [`crate::parsers::mesh`]; this module
+//! places the meshes as bodies, chooses the tip and fits.
 
 use std::collections::BTreeMap;
 
@@ -7,9 +10,10 @@ use serde::Serialize;
 
 use super::{Body, Coverage, CoverageOptions, coverage, fit_volumes, rigid_segments};
 use crate::error::FieldError;
-use crate::kinematics::urdf::{ChainLink, UrdfOptions, robot_with_links};
 use crate::kinematics::{Robot, RobotSpec};
-use crate::mesh::{TriMesh, load_mesh};
+use crate::mesh::TriMesh;
+use crate::parsers::mesh::read_named;
+use crate::parsers::urdf::{ChainLink, UrdfOptions, robot_with_links};
 
 /// The result of [`fit_urdf`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -31,72 +35,6 @@ pub struct UrdfFit {
     pub bodies: Vec<Body>,
 }
 
-/// Path components of `name`, after `package://` or `file://`, with `.`
-/// dropped and `..` applied. A relative name may start with one `..` (a
-/// URDF in `urdf/` naming `../meshes/a.stl`, the ROS layout); `Err` when
-/// `..` climbs further out.
-pub fn path_components(name: &str) -> Result<Vec<String>, String> {
-    let rest = name
-        .strip_prefix("package://")
-        .or_else(|| name.strip_prefix("file://"))
-        .unwrap_or(name);
-    let mut out: Vec<String> = Vec::new();
-    let mut climbs = 0;
-    for c in rest.split(['/', '\\']) {
-        match c {
-            "" | "." => {}
-            ".." => {
-                if out.pop().is_none() {
-                    if rest.starts_with('/') || climbs == 1 {
-                        return Err(format!("\"{name}\" leads outside the folder"));
-                    }
-                    climbs += 1;
-                }
-            }
-            c => out.push(c.to_owned()),
-        }
-    }
-    if out.is_empty() {
-        return Err(format!("\"{name}\" names no file"));
-    }
-    Ok(out)
-}
-
-/// The key of `files` that `name` (a URDF mesh `filename`) refers to: the
-/// one sharing the longest tail of path components with it (at least the
-/// file name), so that `package://pkg/meshes/a.stl`, `../meshes/a.stl` and
-/// `meshes/a.stl` all find `robot/meshes/a.stl`.
-///
-/// # Errors
-/// A message naming the file: not found, or a path leading outside.
-pub fn resolve_mesh<'a>(
-    name: &str,
-    files: &'a BTreeMap<String, Vec<u8>>,
-) -> Result<&'a str, String> {
-    let want = path_components(name)?;
-    let mut best: Option<(usize, &str)> = None;
-    for key in files.keys() {
-        let Ok(have) = path_components(key) else {
-            continue;
-        };
-        let common = want
-            .iter()
-            .rev()
-            .zip(have.iter().rev())
-            .take_while(|(a, b)| a == b)
-            .count();
-        if common > 0 && best.is_none_or(|(c, _)| common > c) {
-            best = Some((common, key.as_str()));
-        }
-    }
-    best.map(|(_, k)| k).ok_or_else(|| {
-        format!(
-            "\"{name}\" was not found among the {} files given",
-            files.len()
-        )
-    })
-}
-
 /// The collision bodies of the links (base excluded) and one message per
 /// mesh that could not be read.
 fn read_bodies(links: &[ChainLink], files: &BTreeMap<String, Vec<u8>>) -> (Vec<Body>, Vec<String>) {
@@ -105,7 +43,7 @@ fn read_bodies(links: &[ChainLink], files: &BTreeMap<String, Vec<u8>>) -> (Vec<B
     for link in links.iter().filter(|l| l.row > 0) {
         let mut mesh = TriMesh::default();
         for (k, m) in link.collision.iter().enumerate() {
-            match read(&m.filename, files) {
+            match read_named(&m.filename, files) {
                 Ok(t) => mesh.append(&t.transformed(&(link.pose * m.origin), m.scale)),
                 Err(e) => problems.push(format!("link \"{}\": collision[{k}]: {e}", link.name)),
             }
@@ -130,19 +68,6 @@ fn unplaced(spec: &RobotSpec, bodies: &[Body]) -> Result<Vec<String>, FieldError
         .filter(|b| rigid.get(b.link).is_none_or(Vec::is_empty))
         .map(|b| b.name.clone())
         .collect())
-}
-
-fn read(name: &str, files: &BTreeMap<String, Vec<u8>>) -> Result<TriMesh, String> {
-    let key = resolve_mesh(name, files)?;
-    let bytes = files.get(key).map_or(&[][..], Vec::as_slice);
-    load_mesh(key, bytes, &mut |p| {
-        let p = path_components(p).ok()?.join("/");
-        files
-            .iter()
-            .find(|(k, _)| path_components(k).is_ok_and(|c| c.join("/") == p))
-            .map(|(_, v)| v.clone())
-    })
-    .map_err(|e| e.to_string())
 }
 
 /// Imports a URDF ([`robot_with_links`]) and fits the volumes of its rows to

@@ -14,6 +14,9 @@
 //! - the last frame: `z_n = z_{n-1}`, its origin at the tip's origin, with
 //!   `x_n` towards it (or along the tip's x axis when the tip is on axis n);
 //!   the tool transform is whatever remains.
+//!
+//! The URDF reader ([`crate::parsers::urdf`]) gives the axes; this module
+//! knows nothing of files.
 
 use glam::{DAffine3, DMat3, DVec3};
 

@@ -1,10 +1,10 @@
 //! The `HIERARCHY` of a BVH file: its joints, offsets and channels, read
-//! from a lazy stream of tokens (see [`super::bvh`] for the format and what
-//! is refused).
+//! from a lazy stream of tokens (see [`super`] for the format and what is
+//! refused).
 
 use glam::DVec3;
 
-use super::bvh::{MAX_BVH_JOINTS, MAX_BVH_VALUE};
+use super::{MAX_BVH_JOINTS, MAX_BVH_VALUE};
 use crate::error::FieldError;
 
 /// Longest joint name (characters).
@@ -195,6 +195,15 @@ fn channels(tok: &mut Tokens<'_>, joint: &mut Joint, first: usize) -> Result<(),
     Ok(())
 }
 
+/// The hierarchy as it is read: the joints so far, the blocks open, a
+/// block named but not yet opened by its `{`, and the channels counted.
+struct Reader {
+    joints: Vec<Joint>,
+    stack: Vec<Open>,
+    pending: Option<Open>,
+    count: usize,
+}
+
 /// Reads the `HIERARCHY` up to and including `MOTION`.
 pub(super) fn hierarchy(tok: &mut Tokens<'_>) -> Result<Hierarchy, FieldError> {
     if !matches!(tok.next(), Some((_, "HIERARCHY"))) {
@@ -203,10 +212,12 @@ pub(super) fn hierarchy(tok: &mut Tokens<'_>) -> Result<Hierarchy, FieldError> {
             "a BVH file starts with HIERARCHY",
         ));
     }
-    let mut joints: Vec<Joint> = Vec::new();
-    let mut stack: Vec<Open> = Vec::new();
-    let mut pending: Option<Open> = None;
-    let mut count = 0;
+    let mut r = Reader {
+        joints: Vec::new(),
+        stack: Vec::new(),
+        pending: None,
+        count: 0,
+    };
     loop {
         let Some((line, t)) = tok.next() else {
             return Err(FieldError::new(
@@ -215,118 +226,58 @@ pub(super) fn hierarchy(tok: &mut Tokens<'_>) -> Result<Hierarchy, FieldError> {
             ));
         };
         let at = format!("line {line}");
-        if pending.is_some() && t != "{" {
+        if r.pending.is_some() && t != "{" {
             return Err(FieldError::new(
                 at,
                 format!("expected {{, got \"{}\"", clip(t)),
             ));
         }
+        if r.token(tok, t, line, at)? {
+            break;
+        }
+    }
+    if r.count == 0 {
+        return Err(FieldError::new("HIERARCHY", "no joint has CHANNELS"));
+    }
+    Ok(Hierarchy {
+        joints: r.joints,
+        channels: r.count,
+    })
+}
+
+impl Reader {
+    /// Reads what token `t` (on `line`, `at` for messages) begins; `true`
+    /// at `MOTION`, the end of the hierarchy.
+    fn token(
+        &mut self,
+        tok: &mut Tokens<'_>,
+        t: &str,
+        line: usize,
+        at: String,
+    ) -> Result<bool, FieldError> {
         match t {
-            "ROOT" | "JOINT" => {
-                let parent = match (t, stack.last()) {
-                    ("ROOT", None) if joints.is_empty() => None,
-                    ("ROOT", _) => {
-                        return Err(FieldError::new(
-                            "ROOT",
-                            format!(
-                                "only one ROOT, at the top of the HIERARCHY (another on line {line})"
-                            ),
-                        ));
-                    }
-                    (_, Some(Open::Joint(p))) => Some(*p),
-                    _ => return Err(FieldError::new(at, "JOINT outside a joint's braces")),
-                };
-                let (name, brace) = joint_name(tok, line)?;
-                if joints.len() >= MAX_BVH_JOINTS {
-                    return Err(FieldError::new(
-                        "HIERARCHY",
-                        format!("at most {MAX_BVH_JOINTS} joints"),
-                    ));
-                }
-                joints.push(Joint {
-                    name,
-                    parent,
-                    offset: DVec3::ZERO,
-                    channels: Vec::new(),
-                    first: 0,
-                    end: None,
-                });
-                let open = Open::Joint(joints.len() - 1);
-                if brace {
-                    stack.push(open);
-                } else {
-                    pending = Some(open);
-                }
-            }
-            "End" => {
-                let Some(Open::Joint(j)) = stack.last().copied() else {
-                    return Err(FieldError::new(at, "End Site outside a joint's braces"));
-                };
-                if tok.same_line() != Some("Site") {
-                    return Err(FieldError::new(at, "expected End Site"));
-                }
-                match tok.same_line() {
-                    Some("{") => stack.push(Open::End(j)),
-                    None => pending = Some(Open::End(j)),
-                    Some(x) => {
-                        return Err(FieldError::new(at, format!("unexpected \"{}\"", clip(x))));
-                    }
-                }
-            }
-            "{" => match pending.take() {
-                Some(p) => stack.push(p),
+            "ROOT" | "JOINT" => self.joint(tok, t, line, at)?,
+            "End" => self.end_site(tok, at)?,
+            "{" => match self.pending.take() {
+                Some(p) => self.stack.push(p),
                 None => return Err(FieldError::new(at, "unexpected {")),
             },
             "}" => {
-                if stack.pop().is_none() {
+                if self.stack.pop().is_none() {
                     return Err(FieldError::new(at, "unmatched }"));
                 }
             }
-            "OFFSET" => {
-                let (j, end) = match stack.last() {
-                    Some(Open::Joint(j)) => (*j, false),
-                    Some(Open::End(j)) => (*j, true),
-                    None => return Err(FieldError::new(at, "OFFSET outside a joint's braces")),
-                };
-                let field = format!(
-                    "{}.{}OFFSET",
-                    joints[j].name,
-                    if end { "End Site." } else { "" }
-                );
-                let mut v = DVec3::ZERO;
-                for k in 0..3 {
-                    v[k] = number(&field, tok.same_line())?;
-                }
-                if end {
-                    joints[j].end.get_or_insert(v);
-                } else {
-                    joints[j].offset = v;
-                }
-            }
+            "OFFSET" => self.offset(tok, at)?,
             "CHANNELS" => {
-                let Some(Open::Joint(j)) = stack.last().copied() else {
+                let Some(Open::Joint(j)) = self.stack.last().copied() else {
                     return Err(FieldError::new(at, "CHANNELS outside a joint's braces"));
                 };
-                channels(tok, &mut joints[j], count)?;
-                count += joints[j].channels.len();
+                channels(tok, &mut self.joints[j], self.count)?;
+                self.count += self.joints[j].channels.len();
             }
             "MOTION" => {
-                if joints.is_empty() {
-                    return Err(FieldError::new(
-                        "ROOT",
-                        "missing: the HIERARCHY has no ROOT",
-                    ));
-                }
-                if !stack.is_empty() {
-                    return Err(FieldError::new(
-                        "HIERARCHY",
-                        format!(
-                            "{} braces left open before MOTION (a missing }})",
-                            stack.len()
-                        ),
-                    ));
-                }
-                break;
+                self.motion()?;
+                return Ok(true);
             }
             other => {
                 return Err(FieldError::new(
@@ -335,14 +286,113 @@ pub(super) fn hierarchy(tok: &mut Tokens<'_>) -> Result<Hierarchy, FieldError> {
                 ));
             }
         }
+        Ok(false)
     }
-    if count == 0 {
-        return Err(FieldError::new("HIERARCHY", "no joint has CHANNELS"));
+
+    /// A `ROOT` or `JOINT` (`t`) and its name.
+    fn joint(
+        &mut self,
+        tok: &mut Tokens<'_>,
+        t: &str,
+        line: usize,
+        at: String,
+    ) -> Result<(), FieldError> {
+        let parent = match (t, self.stack.last()) {
+            ("ROOT", None) if self.joints.is_empty() => None,
+            ("ROOT", _) => {
+                return Err(FieldError::new(
+                    "ROOT",
+                    format!("only one ROOT, at the top of the HIERARCHY (another on line {line})"),
+                ));
+            }
+            (_, Some(Open::Joint(p))) => Some(*p),
+            _ => return Err(FieldError::new(at, "JOINT outside a joint's braces")),
+        };
+        let (name, brace) = joint_name(tok, line)?;
+        if self.joints.len() >= MAX_BVH_JOINTS {
+            return Err(FieldError::new(
+                "HIERARCHY",
+                format!("at most {MAX_BVH_JOINTS} joints"),
+            ));
+        }
+        self.joints.push(Joint {
+            name,
+            parent,
+            offset: DVec3::ZERO,
+            channels: Vec::new(),
+            first: 0,
+            end: None,
+        });
+        let open = Open::Joint(self.joints.len() - 1);
+        if brace {
+            self.stack.push(open);
+        } else {
+            self.pending = Some(open);
+        }
+        Ok(())
     }
-    Ok(Hierarchy {
-        joints,
-        channels: count,
-    })
+
+    /// An `End Site` of the joint whose block is open.
+    fn end_site(&mut self, tok: &mut Tokens<'_>, at: String) -> Result<(), FieldError> {
+        let Some(Open::Joint(j)) = self.stack.last().copied() else {
+            return Err(FieldError::new(at, "End Site outside a joint's braces"));
+        };
+        if tok.same_line() != Some("Site") {
+            return Err(FieldError::new(at, "expected End Site"));
+        }
+        match tok.same_line() {
+            Some("{") => self.stack.push(Open::End(j)),
+            None => self.pending = Some(Open::End(j)),
+            Some(x) => {
+                return Err(FieldError::new(at, format!("unexpected \"{}\"", clip(x))));
+            }
+        }
+        Ok(())
+    }
+
+    /// The `OFFSET` of the joint or end site whose block is open.
+    fn offset(&mut self, tok: &mut Tokens<'_>, at: String) -> Result<(), FieldError> {
+        let (j, end) = match self.stack.last() {
+            Some(Open::Joint(j)) => (*j, false),
+            Some(Open::End(j)) => (*j, true),
+            None => return Err(FieldError::new(at, "OFFSET outside a joint's braces")),
+        };
+        let field = format!(
+            "{}.{}OFFSET",
+            self.joints[j].name,
+            if end { "End Site." } else { "" }
+        );
+        let mut v = DVec3::ZERO;
+        for k in 0..3 {
+            v[k] = number(&field, tok.same_line())?;
+        }
+        if end {
+            self.joints[j].end.get_or_insert(v);
+        } else {
+            self.joints[j].offset = v;
+        }
+        Ok(())
+    }
+
+    /// `MOTION`: the hierarchy must have a root and every block closed.
+    fn motion(&self) -> Result<(), FieldError> {
+        if self.joints.is_empty() {
+            return Err(FieldError::new(
+                "ROOT",
+                "missing: the HIERARCHY has no ROOT",
+            ));
+        }
+        if !self.stack.is_empty() {
+            return Err(FieldError::new(
+                "HIERARCHY",
+                format!(
+                    "{} braces left open before MOTION (a missing }})",
+                    self.stack.len()
+                ),
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Joint {

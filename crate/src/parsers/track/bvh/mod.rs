@@ -16,10 +16,15 @@
 
 use glam::{DMat3, DVec3};
 
-use super::hierarchy::{Channel, Hierarchy, Tokens, clip, hierarchy, number};
+mod hierarchy;
+mod joints;
+
+use hierarchy::{Channel, Hierarchy, Tokens, clip, hierarchy, number};
+
+use super::Axes;
 use crate::error::FieldError;
-use crate::human::animation::MAX_KEYFRAMES;
-use crate::human::body::rotation;
+use crate::human::MAX_KEYFRAMES;
+use crate::human::rotation;
 
 /// Most joints (end sites not counted) a BVH hierarchy may declare.
 pub const MAX_BVH_JOINTS: usize = 1024;
@@ -87,25 +92,6 @@ fn motion_header<'a>(
     Ok((usize::try_from(n).unwrap_or(MAX_KEYFRAMES), dt))
 }
 
-/// How file coordinates become world coordinates: metres per unit and
-/// whether the file's up axis is y (then `(x, y, z) → (x, −z, y)`).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Axes {
-    pub scale: f64,
-    pub y_up: bool,
-}
-
-impl Axes {
-    pub(crate) fn apply(self, p: DVec3) -> DVec3 {
-        let p = p * self.scale;
-        if self.y_up {
-            DVec3::new(p.x, -p.z, p.y)
-        } else {
-            p
-        }
-    }
-}
-
 /// Poses the joints marked in `used` for one frame's `values`.
 fn forward(h: &Hierarchy, values: &[f64], used: &[bool], p: &mut [DVec3], r: &mut [DMat3]) {
     const AXES: [DVec3; 3] = [DVec3::X, DVec3::Y, DVec3::Z];
@@ -140,7 +126,7 @@ fn forward(h: &Hierarchy, values: &[f64], used: &[bool], p: &mut [DVec3], r: &mu
 pub(crate) type Read = (Vec<f64>, Vec<Vec<Option<DVec3>>>);
 
 /// Reads a BVH file: its hierarchy, the joints the fit needs
-/// ([`super::skeleton::map`]) and their world positions in every frame.
+/// ([`joints::body_joints`]) and their world positions in every frame.
 pub(crate) fn read(text: &str, axes: Axes) -> Result<Read, FieldError> {
     let mut tok = Tokens::new(text);
     let h = hierarchy(&mut tok)?;
@@ -150,7 +136,7 @@ pub(crate) fn read(text: &str, axes: Axes) -> Result<Read, FieldError> {
             format!("unexpected \"{}\" after MOTION", clip(x)),
         ));
     }
-    let slots = super::skeleton::map(&h)?;
+    let slots = joints::body_joints(&h)?;
     // The joints on the way from the root to the mapped ones.
     let mut used = vec![false; h.joints.len()];
     for &(j, _) in &slots {

@@ -63,6 +63,12 @@ use crate::error::{FieldError, non_negative};
 use crate::kinematics::{Frames, Robot};
 use crate::skeleton::Skeleton;
 
+mod bounds;
+mod project;
+
+pub use bounds::{GuardContext, Protection, admissible_box, prepare, protect, stop_time};
+pub use project::{Projection, project};
+
 /// Settings of the protective layer (scenario field
 /// `controller.protective`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -217,29 +223,77 @@ fn jacobian_at(
     Ok(())
 }
 
+/// How the guards of one step bound their pairs ([`guards`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GuardBounds {
+    /// The protective layer's settings.
+    pub config: ProtectiveConfig,
+    /// The joints' stopping time now (s).
+    pub braking: f64,
+    /// The lowest bound asked for (e.g. 0 during a stop: a stopping arm is
+    /// not asked to retreat).
+    pub floor: f64,
+    /// The damper of the `constraints` avoidance, if any.
+    pub damper: Option<Damper>,
+}
+
+impl GuardBounds {
+    /// The protective bound and the damper's bound (`+∞` without a
+    /// damper) of pair `p`, both at least `floor`; a static or receding
+    /// obstacle asks for no retreat faster than `withdraw_speed`.
+    fn of(&self, p: &GuardPair) -> (f64, f64) {
+        let config = self.config;
+        let mut bound = config.bound(p.distance, p.obstacle_speed, self.braking);
+        if p.obstacle_speed <= 0.0 {
+            bound = bound.max(-config.withdraw_speed);
+        }
+        let bound = bound.max(self.floor);
+        let soft = self.damper.as_ref().map_or(f64::INFINITY, |d| {
+            d.bound(p.distance, p.obstacle_speed).max(self.floor)
+        });
+        (bound, soft)
+    }
+}
+
+/// The row of pair `p` into `row`: `nᵀ J_θ` at the arm's witness, less
+/// `nᵀ J_θ,b` at the other side of a self pair (`jacobians` are scratch).
+fn pair_row(
+    ctx: &GuardContext,
+    p: &GuardPair,
+    jacobians: (&mut PointJacobians, &mut PointJacobians),
+    row: &mut Vec<f64>,
+) -> Result<(), FieldError> {
+    let (robot, frames, skeleton) = (ctx.robot, ctx.frames, ctx.skeleton);
+    let (ja, jb) = jacobians;
+    jacobian_at(robot, frames, skeleton, p.segment, p.fraction, ja)?;
+    row.clear();
+    row.extend(ja.j_theta.iter().map(|c| p.normal.dot(*c)));
+    if let Some((seg, t)) = p.other {
+        jacobian_at(robot, frames, skeleton, seg, t, jb)?;
+        for (r, c) in row.iter_mut().zip(&jb.j_theta) {
+            *r -= p.normal.dot(*c);
+        }
+    }
+    Ok(())
+}
+
 /// The guard of every pair (see the module docs), into `out`.
 ///
-/// `braking` is the joints' stopping time now; `floor` (e.g. 0 during a
-/// stop) is the lowest bound asked for: a stopping arm is not asked to
-/// retreat. A static or receding obstacle (and a self pair) never asks for
-/// a retreat faster than `withdraw_speed`: the arm backs out of an overlap
-/// at that speed instead of being asked the impossible. `damper` adds each
-/// pair's [`Damper`] bound as [`Guard::soft`].
+/// A static or receding obstacle (and a self pair) never asks for a
+/// retreat faster than `withdraw_speed`: the arm backs out of an overlap
+/// at that speed instead of being asked the impossible. With a damper,
+/// each pair's [`Damper`] bound is [`Guard::soft`]. `ctx` gives the robot,
+/// its frames and its skeleton.
 ///
 /// # Errors
 /// A pair whose segment is not in the skeleton (a bug).
-#[allow(clippy::too_many_arguments)]
 pub fn guards(
-    robot: &Robot,
-    frames: &Frames,
-    skeleton: &Skeleton,
+    ctx: &GuardContext,
     pairs: &[GuardPair],
-    config: &ProtectiveConfig,
-    braking: f64,
-    floor: f64,
-    damper: Option<&Damper>,
+    bounds: &GuardBounds,
     out: &mut Vec<Guard>,
 ) -> Result<(), FieldError> {
+    let robot = ctx.robot;
     // The guards of the last call are written over (their rows' buffers
     // reused: no allocation per pair and step once the count is reached).
     let mut used = 0;
@@ -247,29 +301,11 @@ pub fn guards(
     let mut jb = PointJacobians::default();
     let mut row = Vec::with_capacity(robot.dof());
     for p in pairs {
-        if let Err(e) = jacobian_at(robot, frames, skeleton, p.segment, p.fraction, &mut ja) {
+        if let Err(e) = pair_row(ctx, p, (&mut ja, &mut jb), &mut row) {
             out.truncate(used);
             return Err(e);
         }
-        row.clear();
-        row.extend(ja.j_theta.iter().map(|c| p.normal.dot(*c)));
-        if let Some((seg, t)) = p.other {
-            if let Err(e) = jacobian_at(robot, frames, skeleton, seg, t, &mut jb) {
-                out.truncate(used);
-                return Err(e);
-            }
-            for (r, c) in row.iter_mut().zip(&jb.j_theta) {
-                *r -= p.normal.dot(*c);
-            }
-        }
-        let mut bound = config.bound(p.distance, p.obstacle_speed, braking);
-        if p.obstacle_speed <= 0.0 {
-            bound = bound.max(-config.withdraw_speed);
-        }
-        let bound = bound.max(floor);
-        let soft = damper.map_or(f64::INFINITY, |d| {
-            d.bound(p.distance, p.obstacle_speed).max(floor)
-        });
+        let (bound, soft) = bounds.of(p);
         // A guard the joints cannot reach within their speed limits can
         // never be active, and one no joint can act on cannot be helped:
         // leave both out of the QP.
@@ -360,146 +396,12 @@ impl Guard {
     }
 }
 
-/// The outcome of [`project`].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Projection {
-    /// Largest remaining violation `row · q̇ − bound` (m/s; ≤ 1e-9 when
-    /// every guard holds).
-    pub violation: f64,
-    /// The guard with the largest violation, when one is violated.
-    pub worst: Option<usize>,
-    /// Sweeps used.
-    pub sweeps: usize,
-}
-
 /// Tolerance on a guard (m/s).
 pub const GUARD_TOLERANCE: f64 = 1e-9;
-
-const MAX_SWEEPS: usize = 200;
-
-/// `x` closest to `desired` in the metric `Σ wᵢ (xᵢ − desiredᵢ)²` with
-/// `lo ≤ x ≤ hi` and every guard `row · x ≤ bound` (Hildreth's method on the
-/// dual). Empty `weights` means unit weights.
-pub fn project(
-    desired: &[f64],
-    weights: &[f64],
-    lo: &[f64],
-    hi: &[f64],
-    guards: &[Guard],
-    x: &mut Vec<f64>,
-) -> Projection {
-    let n = desired.len();
-    x.clear();
-    x.extend_from_slice(desired);
-    let winv: Vec<f64> = (0..n)
-        .map(|i| weights.get(i).map_or(1.0, |w| 1.0 / w))
-        .collect();
-    let norms: Vec<f64> = guards
-        .iter()
-        .map(|g| g.row.iter().zip(&winv).map(|(r, w)| r * r * w).sum())
-        .collect();
-    let mut lambda = vec![0.0; guards.len()];
-    let (mut up, mut down) = (vec![0.0; n], vec![0.0; n]);
-    let mut sweeps = 0;
-    while sweeps < MAX_SWEEPS {
-        sweeps += 1;
-        let mut change: f64 = 0.0;
-        for (k, g) in guards.iter().enumerate() {
-            if norms[k] <= 1e-18 {
-                continue;
-            }
-            let gx: f64 = g.row.iter().zip(x.iter()).map(|(r, v)| r * v).sum();
-            let next = (lambda[k] + (gx - g.bound) / norms[k]).max(0.0);
-            let delta = next - lambda[k];
-            if delta != 0.0 {
-                for ((xi, r), w) in x.iter_mut().zip(&g.row).zip(&winv) {
-                    *xi -= w * r * delta;
-                }
-                lambda[k] = next;
-                change = change.max((delta * norms[k]).abs());
-            }
-        }
-        for i in 0..n {
-            // x_i ≤ hi_i (multiplier up[i]) and −x_i ≤ −lo_i (down[i]).
-            let next = (up[i] + (x[i] - hi[i]) / winv[i]).max(0.0);
-            x[i] -= winv[i] * (next - up[i]);
-            change = change.max(((next - up[i]) * winv[i]).abs());
-            up[i] = next;
-            let next = (down[i] + (lo[i] - x[i]) / winv[i]).max(0.0);
-            x[i] += winv[i] * (next - down[i]);
-            change = change.max(((next - down[i]) * winv[i]).abs());
-            down[i] = next;
-        }
-        if change < 1e-12 {
-            break;
-        }
-    }
-    for (xi, (l, h)) in x.iter_mut().zip(lo.iter().zip(hi)) {
-        *xi = xi.clamp(*l, *h);
-    }
-    let mut out = Projection {
-        sweeps,
-        ..Projection::default()
-    };
-    for (k, g) in guards.iter().enumerate() {
-        let gx: f64 = g.row.iter().zip(x.iter()).map(|(r, v)| r * v).sum();
-        let v = gx - g.bound;
-        if v > out.violation {
-            out.violation = v;
-            if v > GUARD_TOLERANCE.max(1e-6 * g.bound.abs()) {
-                out.worst = Some(k);
-            }
-        }
-    }
-    out
-}
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn guard(row: &[f64], bound: f64) -> Guard {
-        Guard {
-            row: row.to_vec(),
-            bound,
-            ..Guard::default()
-        }
-    }
-
-    #[test]
-    fn projection_is_the_weighted_closest_feasible_point() {
-        let gs = [guard(&[1.0, 1.0], 1.0)];
-        let mut x = Vec::new();
-        let p = project(&[2.0, 2.0], &[], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
-        assert!(p.worst.is_none());
-        assert!(
-            (x[0] - 0.5).abs() < 1e-9 && (x[1] - 0.5).abs() < 1e-9,
-            "{x:?}"
-        );
-        // Joint 1 four times heavier: it moves a quarter as much.
-        project(&[2.0, 2.0], &[1.0, 4.0], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
-        assert!(
-            (x[0] + 0.4).abs() < 1e-9 && (x[1] - 1.4).abs() < 1e-9,
-            "{x:?}"
-        );
-        // Inactive guard: untouched.
-        project(&[0.1, 0.2], &[], &[-5.0; 2], &[5.0; 2], &gs, &mut x);
-        assert_eq!(x, vec![0.1, 0.2]);
-    }
-
-    #[test]
-    fn guards_and_box_together_and_infeasibility_reported() {
-        let gs = [guard(&[1.0, 0.0], -1.0)];
-        let mut x = Vec::new();
-        let p = project(&[0.0, 0.3], &[], &[-2.0; 2], &[2.0; 2], &gs, &mut x);
-        assert!(p.worst.is_none());
-        assert!((x[0] + 1.0).abs() < 1e-9 && (x[1] - 0.3).abs() < 1e-9);
-        // Retreat faster than the box allows: reported.
-        let gs = [guard(&[1.0, 0.0], -3.0)];
-        let p = project(&[0.0, 0.0], &[], &[-2.0; 2], &[2.0; 2], &gs, &mut x);
-        assert_eq!(p.worst, Some(0));
-        assert!((p.violation - 1.0).abs() < 1e-9);
-    }
 
     #[test]
     fn bound_vanishes_at_the_safety_distance() {

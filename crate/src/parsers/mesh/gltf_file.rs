@@ -8,6 +8,7 @@ use glam::{DAffine3, DMat4, DVec3};
 
 use super::{MAX_MESH_BYTES, MAX_TRIANGLES, MAX_VERTICES, MeshError, MeshFormat, TriMesh};
 
+/// Reads a glTF or GLB file (GLB when its bytes start with `glTF`).
 pub(super) fn read(
     path: &str,
     bytes: &[u8],
@@ -18,12 +19,42 @@ pub(super) fn read(
     } else {
         MeshFormat::Gltf
     };
-    let unreadable = |reason: String| MeshError::Unreadable {
+    let gltf =
+        gltf::Gltf::from_slice(bytes).map_err(|e| unreadable(path, format, e.to_string()))?;
+    let buffers = read_buffers(&gltf, path, format, resolve)?;
+    let mut out = TriMesh::default();
+    let scene = gltf
+        .document
+        .default_scene()
+        .or_else(|| gltf.document.scenes().next());
+    match scene {
+        Some(scene) => read_scene(&scene, path, format, &buffers, &mut out)?,
+        None => {
+            for mesh in gltf.document.meshes() {
+                add_mesh(path, &mesh, &DAffine3::IDENTITY, &buffers, &mut out)?;
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn unreadable(path: &str, format: MeshFormat, reason: String) -> MeshError {
+    MeshError::Unreadable {
         path: path.to_owned(),
         format,
         reason,
-    };
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| unreadable(e.to_string()))?;
+    }
+}
+
+/// The bytes of every buffer: the binary chunk, a `data:` URI or a file
+/// the resolver gives, each within the caps and at least its `byteLength`.
+fn read_buffers(
+    gltf: &gltf::Gltf,
+    path: &str,
+    format: MeshFormat,
+    resolve: &mut dyn FnMut(&str) -> Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>, MeshError> {
+    let unreadable = |reason: String| unreadable(path, format, reason);
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {
         let data = match buffer.source() {
@@ -60,36 +91,34 @@ pub(super) fn read(
         }
         buffers.push(data);
     }
-    let mut out = TriMesh::default();
-    let scene = gltf
-        .document
-        .default_scene()
-        .or_else(|| gltf.document.scenes().next());
-    match scene {
-        Some(scene) => {
-            let mut stack: Vec<(gltf::Node, DAffine3)> =
-                scene.nodes().map(|n| (n, DAffine3::IDENTITY)).collect();
-            let mut visited = 0usize;
-            while let Some((node, parent)) = stack.pop() {
-                visited += 1;
-                if visited > 100_000 {
-                    return Err(unreadable("more than 100000 nodes".into()));
-                }
-                let m = node.transform().matrix().map(|c| c.map(f64::from));
-                let pose = parent * DAffine3::from_mat4(DMat4::from_cols_array_2d(&m));
-                if let Some(mesh) = node.mesh() {
-                    add_mesh(path, &mesh, &pose, &buffers, &mut out)?;
-                }
-                stack.extend(node.children().map(|c| (c, pose)));
-            }
+    Ok(buffers)
+}
+
+/// Adds the meshes of the nodes of `scene`, each moved by its node's
+/// transform (at most 100 000 nodes).
+fn read_scene(
+    scene: &gltf::Scene,
+    path: &str,
+    format: MeshFormat,
+    buffers: &[Vec<u8>],
+    out: &mut TriMesh,
+) -> Result<(), MeshError> {
+    let mut stack: Vec<(gltf::Node, DAffine3)> =
+        scene.nodes().map(|n| (n, DAffine3::IDENTITY)).collect();
+    let mut visited = 0usize;
+    while let Some((node, parent)) = stack.pop() {
+        visited += 1;
+        if visited > 100_000 {
+            return Err(unreadable(path, format, "more than 100000 nodes".into()));
         }
-        None => {
-            for mesh in gltf.document.meshes() {
-                add_mesh(path, &mesh, &DAffine3::IDENTITY, &buffers, &mut out)?;
-            }
+        let m = node.transform().matrix().map(|c| c.map(f64::from));
+        let pose = parent * DAffine3::from_mat4(DMat4::from_cols_array_2d(&m));
+        if let Some(mesh) = node.mesh() {
+            add_mesh(path, &mesh, &pose, buffers, out)?;
         }
+        stack.extend(node.children().map(|c| (c, pose)));
     }
-    Ok(out)
+    Ok(())
 }
 
 fn too_many(path: &str, what: &'static str, count: usize, max: usize) -> MeshError {

@@ -2,8 +2,6 @@
 //! Tracking (32 joints), their keypoint names and where the joints the fit
 //! needs sit in each.
 
-use glam::DVec3;
-
 use crate::error::FieldError;
 
 /// A keypoint layout.
@@ -179,55 +177,5 @@ impl Layout {
             *o = self.index(n).unwrap_or(0);
         }
         out
-    }
-}
-
-/// Where every keypoint of `layout` sits on a body given its joints
-/// (`j`: the [`NEEDED`] joints with the head's centre in both ear slots),
-/// its hands' and feet's ends, its left and forward directions and its
-/// height: the synthetic recordings' model of the joints the fit does not
-/// read (eyes, toes, clavicles, …).
-pub(crate) struct Anchors {
-    pub j: [DVec3; 14],
-    pub hand: [(DVec3, DVec3); 2],
-    pub foot: [(DVec3, DVec3); 2],
-    pub left: DVec3,
-    pub forward: DVec3,
-    pub height: f64,
-}
-
-impl Anchors {
-    /// The position of keypoint `name`.
-    pub(crate) fn at(&self, name: &str) -> DVec3 {
-        let j = |n: &str| self.j[NEEDED.iter().position(|x| *x == n).unwrap_or(0)];
-        let head = j("leftEar");
-        let (l, f, h) = (self.left, self.forward, self.height);
-        let neck = 0.5 * (j("leftShoulder") + j("rightShoulder"));
-        let pelvis = 0.5 * (j("leftHip") + j("rightHip"));
-        match name {
-            "leftEar" => head + l * (0.06 * h),
-            "rightEar" => head - l * (0.06 * h),
-            "head" => head,
-            "nose" => head + f * (0.055 * h),
-            "leftEye" => head + f * (0.045 * h) + l * (0.02 * h) + DVec3::Z * (0.015 * h),
-            "rightEye" => head + f * (0.045 * h) - l * (0.02 * h) + DVec3::Z * (0.015 * h),
-            "neck" => neck,
-            "midHip" | "pelvis" => pelvis,
-            "spineNavel" => pelvis.lerp(neck, 0.35),
-            "spineChest" => pelvis.lerp(neck, 0.7),
-            "leftClavicle" => neck.lerp(j("leftShoulder"), 0.5),
-            "rightClavicle" => neck.lerp(j("rightShoulder"), 0.5),
-            "leftHand" | "leftThumb" => self.hand[0].0.lerp(self.hand[0].1, 0.5),
-            "rightHand" | "rightThumb" => self.hand[1].0.lerp(self.hand[1].1, 0.5),
-            "leftHandTip" => self.hand[0].1,
-            "rightHandTip" => self.hand[1].1,
-            "leftBigToe" | "leftFoot" => self.foot[0].1,
-            "rightBigToe" | "rightFoot" => self.foot[1].1,
-            "leftSmallToe" => self.foot[0].1 + l * (0.02 * h),
-            "rightSmallToe" => self.foot[1].1 - l * (0.02 * h),
-            "leftHeel" => self.foot[0].0,
-            "rightHeel" => self.foot[1].0,
-            other => j(other),
-        }
     }
 }
