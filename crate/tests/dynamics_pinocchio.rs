@@ -12,7 +12,7 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use serde::Deserialize;
 
 use skeleton_avoidance::dynamics::urdf::{dynamics_from_urdf, urdf_bodies};
-use skeleton_avoidance::kinematics::urdf::UrdfOptions;
+use skeleton_avoidance::parsers::urdf::UrdfOptions;
 
 /// Largest error relative to the largest magnitude of the compared
 /// quantity over the sample (per robot and quantity).

@@ -21,14 +21,14 @@ use glam::{DAffine3, DMat3, DVec3};
 use super::Dynamics;
 use super::inertia::Inertial;
 use crate::error::FieldError;
-use crate::kinematics::urdf::{UrdfOptions, robot_with_links};
 use crate::kinematics::{Robot, RobotSpec};
 use crate::math;
+use crate::parsers::urdf::{UrdfOptions, robot_with_links};
 
 /// The bodies of an imported robot, one per DH row, in its DH frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UrdfBodies {
-    /// The imported spec (as [`crate::kinematics::urdf::robot_from_urdf`]).
+    /// The imported spec (as [`crate::parsers::urdf::robot_from_urdf`]).
     pub spec: RobotSpec,
     /// Per row: the lumped body, `None` when its links carry no mass.
     pub bodies: Vec<Option<Inertial>>,
