@@ -66,6 +66,7 @@ pub mod avoidance;
 pub mod control_point;
 pub mod dependability;
 pub mod distance;
+pub mod dynamics;
 pub mod error;
 pub mod fitting;
 pub mod human;
