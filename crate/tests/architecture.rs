@@ -46,6 +46,7 @@ const HIGHER: &[&str] = &[
     "world",
     "distance",
     "fitting",
+    "dynamics",
     "parsers",
 ];
 
