@@ -184,9 +184,6 @@ impl Scenario {
     /// `obstacles[0].shape: missing field \`radius\``, then anything
     /// [`Scenario::validate`] reports.
     pub fn from_json(json: &str) -> Result<Self, ScenarioError> {
-        if let Ok(value) = serde_json::from_str::<serde_json::Value>(json) {
-            bounds::check_json("", &value)?;
-        }
         let mut de = serde_json::Deserializer::from_str(json);
         let s: Self = serde_path_to_error::deserialize(&mut de).map_err(|e| {
             crate::error::from_serde_path(&e.path().to_string(), &e.inner().to_string())
