@@ -670,7 +670,7 @@ export interface SkeletonPickResult extends DhPoint {
 // ---- functions ----
 
 export function robotPreset(name: PresetName): RobotSpec;
-export function presetNames(): string[];
+export function presetNames(): [PresetName, ...PresetName[]];
 export function robotFromUrdf(xml: string, options?: UrdfOptions): RobotSpec & { jointNames: string[] };
 export function fitUrdf(xml: string, options: UrdfOptions): UrdfFit;
 /** `robotFromUrdf`'s spec and a report of what was read, defaulted and left out. */

@@ -136,6 +136,8 @@ const imported = importUrdf(xml, { radii: { upper: 0.05 } });
 const byName = forwardKinematics(robot, { shoulder: 0.1, elbow: -0.2 });
 const presets: PresetName[] = ['planar3', 'lwr4', 'iiwa14', 'panda', 'ur5', 'dual-arm', 'stanford'];
 const fk = forwardKinematics(robotPreset(presets[presets.length - 1]!), new Float64Array(6));
+// The listed names are the literal type `robotPreset` takes.
+const firstPreset = robotPreset(presetNames()[0]);
 const parts = skeleton('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8]).segments.map((s) => s.part.toUpperCase());
 const cp = controlPoint('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8], { link: 4, d: 0, a: 0.04 });
 const sp = skeletonPoint('planar3', [0, 0, 0], { segment: 1, t: 0.5 });
@@ -173,7 +175,7 @@ try {
   viewer = (e as Error).message;
 }
 console.log(JSON.stringify({
-  joints: robot.jointNames, radiusFrom: imported.report.joints.map((j) => j.radiusFrom), byName: byName.origins.length, presets: presetNames(), examples: exampleScenarioNames().length, fk: fk.origins.length, parts,
+  joints: robot.jointNames, radiusFrom: imported.report.joints.map((j) => j.radiusFrom), byName: byName.origins.length, presets: presetNames(), examples: exampleScenarioNames().length, fk: fk.origins.length, firstPreset: firstPreset.joints.length, parts,
   cp: cp.jTheta.length, sp: sp.link, d: d.distance, normal: d.normal, unique: d.unique, moved: referencePoint(moved),
   stops: stops.length, described: described.length, time, clearance, runs: study.runs, same: JSON.stringify(merged) === JSON.stringify(study), viewer,
 }));
@@ -250,6 +252,7 @@ test('every field the runtime returns is declared, every required field is retur
   assert.deepEqual(r.presets, ['planar3', 'lwr4', 'iiwa14', 'panda', 'ur5', 'dual-arm', 'stanford']);
   assert.equal(r.examples, 7);
   assert.equal(r.fk, 7);
+  assert.equal(r.firstPreset, 3);
   assert.ok(r.parts.every((p) => ['D', 'A', 'EXTENSION'].includes(p)) && r.parts.length > 5);
   assert.equal(r.cp, 3);
   assert.ok(Math.abs(r.d - 0.4) < 1e-12, `box to point ${r.d}`);

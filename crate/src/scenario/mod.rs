@@ -22,6 +22,7 @@ use crate::dependability::DependabilityConfig;
 use crate::error::{FieldError, positive};
 use crate::kinematics::{Robot, RobotSpec, presets};
 
+pub mod bounds;
 mod camera;
 mod examples;
 mod obstacle;
@@ -206,6 +207,7 @@ impl Scenario {
     /// E.g. `obstacles[2].shape.radius: must be > 0`, `dt: must be > 0`,
     /// `sensing.ghost: no obstacle with this id`.
     pub fn validate(&self) -> Result<(), ScenarioError> {
+        bounds::check_value("", self)?;
         let robot = self.build_robot()?;
         if let Some(q0) = &self.q0 {
             crate::kinematics::check_vector("q0", q0, robot.dof())?;
@@ -263,6 +265,7 @@ impl Scenario {
 /// # Errors
 /// `influenceDistance: must be > 0`, `pinned[0].link: 9 is not a link of this robot (links 1 to 7)`, …
 pub fn validate_controller(c: &ControllerConfig, robot: &Robot) -> Result<(), FieldError> {
+    bounds::check_value("", c)?;
     c.validate()?;
     if let Some(w) = &c.joint_weights
         && w.len() != robot.dof()

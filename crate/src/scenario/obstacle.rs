@@ -322,6 +322,7 @@ impl ObstacleSpec {
     /// # Errors
     /// `id: must not be empty`, `shape.radius: must be > 0`, `motion.period: …`.
     pub fn validate(&self) -> Result<(), FieldError> {
+        super::bounds::check_value("", self)?;
         if self.id.is_empty() {
             return Err(FieldError::new("id", "must not be empty"));
         }

@@ -152,62 +152,6 @@ pub fn type_name(value: &JsValue) -> &'static str {
     }
 }
 
-/// Largest magnitude of any number in a scenario, a controller patch or an
-/// obstacle (keys named in [`UNBOUNDED_KEYS`] aside). Geometry has its own,
-/// tighter domain (±1e6 m, see `distance::domain` and `kinematics::spec`);
-/// this bound keeps the rest (gains, velocities, times) from overflowing.
-pub const MAX_NUMBER: f64 = 1e9;
-
-/// Keys whose numbers are identifiers rather than magnitudes.
-const UNBOUNDED_KEYS: &[&str] = &["seed"];
-
-/// Tags of variants that carry no fields: serde ignores keys beside the
-/// tag of such a variant, so they are refused here.
-const BARE_TAGS: &[&str] = &["static", "hold"];
-
-/// Every number in `json` within ±[`MAX_NUMBER`], and no key beside the
-/// `type` of a variant without fields (`{ type: "static", colour: 1 }`).
-pub fn check_magnitudes(field: &str, json: &serde_json::Value) -> Result<(), JsError> {
-    use serde_json::Value;
-    match json {
-        Value::Number(n) => match n.as_f64() {
-            Some(x) if x.abs() > MAX_NUMBER => Err(js_error(&FieldError::new(
-                field,
-                format!("must be within ±{MAX_NUMBER:e} (got {x:e})"),
-            ))),
-            _ => Ok(()),
-        },
-        Value::Array(items) => items
-            .iter()
-            .enumerate()
-            .try_for_each(|(k, v)| check_magnitudes(&format!("{field}[{k}]"), v)),
-        Value::Object(map) => map.iter().try_for_each(|(k, v)| {
-            let bare = map
-                .get("type")
-                .and_then(Value::as_str)
-                .is_some_and(|t| BARE_TAGS.contains(&t));
-            if bare && k != "type" {
-                let p = if field.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{field}.{k}")
-                };
-                return Err(js_error(&FieldError::new(p, "unknown field")));
-            }
-            if UNBOUNDED_KEYS.contains(&k.as_str()) {
-                return Ok(());
-            }
-            let p = if field.is_empty() {
-                k.clone()
-            } else {
-                format!("{field}.{k}")
-            };
-            check_magnitudes(&p, v)
-        }),
-        _ => Ok(()),
-    }
-}
-
 /// Argument specs of the `Viewer` methods (see `argument` in `boundary.js`):
 /// numbers are checked for their JS type before wasm coerces them (`'1'`,
 /// `true` and `undefined` would become 1, 1 and NaN), objects are read once.

@@ -5,10 +5,18 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use wasm_bindgen::prelude::*;
 
-use super::boundary::{check_magnitudes, read_json, type_name};
+use super::boundary::{read_json, type_name};
 pub use super::messages::plain_reason;
 use crate::error::FieldError;
 use crate::kinematics::{Robot, RobotSpec, presets};
+
+/// The core's bounds on every number and tagged object
+/// ([`crate::scenario::bounds`]), applied to what a caller passed before it
+/// is read into a type, so that the first refusal is the one a Rust caller
+/// reading the same JSON gets.
+pub fn check_magnitudes(field: &str, json: &serde_json::Value) -> Result<(), JsError> {
+    crate::scenario::bounds::check_json(field, json).map_err(|e| js_error(&e))
+}
 
 /// A JS `Error` from a core validation error.
 pub fn js_error(e: &FieldError) -> JsError {

@@ -25,3 +25,5 @@ pub fn start() {
 
 #[cfg(feature = "render")]
 mod viewer;
+#[cfg(feature = "render")]
+mod viewer_state;

@@ -65,7 +65,7 @@ fn fit(
 /// `base` name the links the chain ends and starts at; `meshes` maps file
 /// paths to their bytes (`Uint8Array` or `ArrayBuffer`), and when given the
 /// radii are fitted to the collision meshes (see `fitUrdf` for the report
-/// and the meshes that could not be read). See `crate::kinematics::urdf`,
+/// and the meshes that could not be read). See `crate::parsers::urdf`,
 /// `crate::fitting`.
 #[wasm_bindgen(js_name = robotFromUrdf)]
 pub fn robot_from_urdf(xml: JsValue, options: JsValue) -> Result<JsValue, JsError> {

@@ -7,82 +7,14 @@
 //! [`Renderer`]'s. The per-frame geometry never crosses to JS.
 
 use glam::DVec3;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 
 use super::convert::{f64_vec, finite_arg, from_js, js_error, object_from_js, robot_named, to_js};
+use super::viewer_state::{Ray, ViewerOptions, snapshot};
 use crate::render::{BackendRequest, CanvasOptions, Renderer};
 use crate::view::{DrawState, Stage, parse_view};
-
-/// Options of `Viewer.create`.
-#[derive(Debug, Default, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-struct ViewerOptions {
-    /// `"auto"` (default), `"webgpu"` or `"webgl2"`.
-    backend: Option<String>,
-    /// `"auto"` (default: 2D top view for planar robots, else 3D), `"3d"`,
-    /// `"top"`, `"front"`, `"side"`.
-    view: Option<String>,
-    /// 4× multisampling (default: on unless the adapter is a software
-    /// rasteriser).
-    antialias: Option<bool>,
-    /// Draw through the canvas's `OffscreenCanvas` (default: false).
-    offscreen: Option<bool>,
-}
-
-/// What `state()` reports (for tests and tooling, not for every frame).
-#[derive(Debug, Serialize)]
-#[serde(rename_all = "camelCase")]
-struct ViewerState {
-    backend: &'static str,
-    adapter: String,
-    surface_format: String,
-    sample_count: u32,
-    /// Whether the canvas is drawn through its `OffscreenCanvas`.
-    offscreen_canvas: bool,
-    /// Triangles the last upload draws (solids at their level of detail,
-    /// facing the eye; flat figures and line quads; grid hairlines not
-    /// counted).
-    triangles: u64,
-    /// Triangles of the capsules and spheres at their level of detail,
-    /// back faces included (what the level of detail alone decides).
-    solid_triangles: u64,
-    /// Frames presented so far.
-    frames_drawn: u64,
-    /// Frames left out so far because their scene and camera were those on
-    /// screen.
-    frames_unchanged: u64,
-    view: &'static str,
-    /// The camera: eye azimuth and elevation (rad), distance to the target
-    /// (m) and the target (m, world frame).
-    camera: CameraState,
-    width: u32,
-    height: u32,
-    dof: usize,
-    q: Vec<f64>,
-    /// Skeleton nodes (m, world frame).
-    nodes: Vec<[f64; 3]>,
-    /// The same nodes in drawing-buffer pixels from the top-left corner
-    /// (`null` when behind the eye).
-    screen_nodes: Vec<Option<[f32; 2]>>,
-}
-
-/// The camera in `state()`.
-#[derive(Debug, Serialize)]
-struct CameraState {
-    yaw: f64,
-    pitch: f64,
-    distance: f64,
-    target: [f64; 3],
-}
-
-/// A picking ray (m, world frame).
-#[derive(Debug, Serialize)]
-struct Ray {
-    origin: [f64; 3],
-    direction: [f64; 3],
-}
 
 /// A canvas that draws a robot's skeleton over a ground grid, through WebGPU
 /// or WebGL2.
@@ -525,36 +457,7 @@ impl Viewer {
     /// # Errors
     /// Only if the snapshot cannot be converted (not expected).
     pub fn state(&self) -> Result<JsValue, JsError> {
-        let (width, height) = self.renderer.size();
-        let nodes = self.stage.drawn_nodes();
-        let camera = self.stage.camera();
-        let state = ViewerState {
-            backend: self.renderer.backend().name(),
-            adapter: self.renderer.adapter_name().to_owned(),
-            surface_format: format!("{:?}", self.renderer.surface_format()),
-            sample_count: self.renderer.sample_count(),
-            offscreen_canvas: self.renderer.is_offscreen(),
-            triangles: self.renderer.triangles(),
-            solid_triangles: self.renderer.solid_triangles(),
-            frames_drawn: self.stage.counts().drawn,
-            frames_unchanged: self.stage.counts().unchanged,
-            view: camera.view.name(),
-            camera: CameraState {
-                yaw: f64::from(camera.yaw),
-                pitch: f64::from(camera.pitch),
-                distance: f64::from(camera.distance),
-                target: camera.target.as_dvec3().to_array(),
-            },
-            width,
-            height,
-            dof: self.stage.q().len(),
-            q: self.stage.q().to_vec(),
-            screen_nodes: nodes
-                .iter()
-                .map(|n| camera.project(DVec3::from(*n).as_vec3(), width as f32, height as f32))
-                .collect(),
-            nodes,
-        };
+        let state = snapshot(&self.renderer, &self.stage);
         serde_wasm_bindgen::to_value(&state).map_err(|e| JsError::new(&e.to_string()))
     }
 }

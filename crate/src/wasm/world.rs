@@ -36,7 +36,7 @@ pub(super) fn scenario_from_js(value: JsValue) -> Result<Scenario, JsError> {
         }
         None => None,
     };
-    super::boundary::check_magnitudes("", &json)?;
+    super::convert::check_magnitudes("", &json)?;
     let mut s: Scenario = super::convert::from_json_at("", "scenario", json.clone())?;
     refuse_positional("", &json, &s)?;
     if let Some(q0) = named_q0 {
