@@ -82,3 +82,56 @@ pub fn check_value<T: Serialize + ?Sized>(field: &str, value: &T) -> Result<(), 
         Err(_) => Ok(()),
     }
 }
+
+/// Refuses an array given where `value` (read from `input`) holds an
+/// object: serde reads a struct from a positional array in field order
+/// (`damping: [0.1]` would set `epsilon`), which from JS is a mistake.
+/// Compares `input` with `value` written back as JSON.
+///
+/// # Errors
+/// `prefix.path: expected an object { a, b }, got an array`.
+pub fn refuse_positional<T: Serialize>(
+    prefix: &str,
+    input: &serde_json::Value,
+    value: &T,
+) -> Result<(), FieldError> {
+    let Ok(output) = serde_json::to_value(value) else {
+        return Ok(());
+    };
+    match positional_at(input, &output, prefix) {
+        Some((path, fields)) => Err(FieldError::new(
+            path,
+            format!(
+                "expected an object {{ {} }}, got an array",
+                fields.join(", ")
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The path of the first array in `input` that became an object in
+/// `output`, with that object's keys.
+fn positional_at(
+    input: &serde_json::Value,
+    output: &serde_json::Value,
+    path: &str,
+) -> Option<(String, Vec<String>)> {
+    match (input, output) {
+        (Value::Array(_), Value::Object(o)) => Some((path.to_owned(), o.keys().cloned().collect())),
+        (Value::Array(a), Value::Array(b)) => a
+            .iter()
+            .zip(b)
+            .enumerate()
+            .find_map(|(k, (x, y))| positional_at(x, y, &format!("{path}[{k}]"))),
+        (Value::Object(a), Value::Object(b)) => a.iter().find_map(|(k, x)| {
+            let p = if path.is_empty() {
+                k.clone()
+            } else {
+                format!("{path}.{k}")
+            };
+            b.get(k).and_then(|y| positional_at(x, y, &p))
+        }),
+        _ => None,
+    }
+}

@@ -418,13 +418,8 @@ impl WorldHandle {
     #[wasm_bindgen(js_name = setController)]
     pub fn set_controller(&mut self, partial: JsValue) -> Result<(), JsError> {
         let patch: serde_json::Value = object_from_js("controller", partial)?;
-        let config = self
-            .inner
-            .merged_controller(&patch)
-            .map_err(|e| scenario_error(&e))?;
-        refuse_positional("controller", &patch, &config)?;
         self.inner
-            .set_controller(config)
+            .update_controller(&patch)
             .map_err(|e| scenario_error(&e))
     }
 

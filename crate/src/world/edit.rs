@@ -166,6 +166,22 @@ impl World {
         Ok(())
     }
 
+    /// Changes the controller fields of `partial` (a JSON object, nested
+    /// objects merged; `{ "influenceDistance": 0.2 }`), the others keep
+    /// their values: the one path of a partial change, for every caller.
+    /// The partial is merged into the configuration in force once, read
+    /// into a typed [`ControllerConfig`] once (an unknown or mistyped field
+    /// named with its path, an array given for an object refused) and
+    /// checked once ([`Self::set_controller`]).
+    ///
+    /// # Errors
+    /// The first bad field under `controller`; the world is unchanged.
+    pub fn update_controller(&mut self, partial: &serde_json::Value) -> Result<(), ScenarioError> {
+        let config = self.merged_controller(partial)?;
+        crate::scenario::bounds::refuse_positional("controller", partial, &config)?;
+        self.set_controller(config)
+    }
+
     /// The current controller configuration with the fields of `partial`
     /// (a JSON object, nested objects merged) replaced.
     ///
