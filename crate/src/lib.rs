@@ -37,7 +37,7 @@
 //! | [`error`] | `FieldError` (a JSON-like path and a reason) and the shared validators | — |
 //! | [`view`] | what the viewer shows as plain data: the scene built from a world's state, framing (reach, planar robots), the camera, the viewer's state apart from the GPU | — |
 //! | `wasm` (wasm32 only) | the `#[wasm_bindgen]` layer: converts and validates, no logic | — |
-//! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground: uploads a [`view::Scene`] and draws it, nothing else | — |
+//! | `render` (wasm32, feature `render`) | the wgpu renderer of the playground: uploads a [`view::Drawing`] and draws it, nothing else | — |
 //!
 //! One control step is a pipeline (table in [`world`]): **sense** (obstacles
 //! as sensed) → **scene query** (forward kinematics in one pass, skeleton,

@@ -97,9 +97,18 @@ fn a_partial_controller_change_is_merged_read_and_checked_once() {
     assert!((after.repulsion_gain - before.repulsion_gain).abs() < 1e-15);
     // Refusals name the field; the configuration in force stays.
     let cases = [
-        (json!({ "influenceDistance": -1 }), "controller.influenceDistance"),
-        (json!({ "influenceDistance": 5e9 }), "controller.influenceDistance"),
-        (json!({ "damping": [0.1] }), "controller.damping: expected an object"),
+        (
+            json!({ "influenceDistance": -1 }),
+            "controller.influenceDistance",
+        ),
+        (
+            json!({ "influenceDistance": 5e9 }),
+            "controller.influenceDistance",
+        ),
+        (
+            json!({ "damping": [0.1] }),
+            "controller.damping: expected an object",
+        ),
         (json!({ "influence": 0.2 }), "controller"),
     ];
     for (patch, field) in cases {

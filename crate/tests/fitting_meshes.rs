@@ -180,7 +180,7 @@ fn iiwa14_fitted_volumes_contain_every_collision_vertex() {
 #[test]
 fn iiwa14_meshes_are_drawn_coarser_when_small_on_screen() {
     use skeleton_avoidance::view::{
-        Camera, Detail, MIN_LEVEL_TRIANGLES, Scene, View, draw_meshes, link_meshes,
+        Camera, Detail, Drawing, MIN_LEVEL_TRIANGLES, View, draw_meshes, link_meshes,
     };
     let f = fit(IIWA, "iiwa_link_7", &iiwa_files());
     let robot = Robot::from_spec(&f.robot).unwrap();
@@ -210,7 +210,7 @@ fn iiwa14_meshes_are_drawn_coarser_when_small_on_screen() {
     let full: usize = meshes.iter().map(|m| m.triangles.len()).sum();
     let mut camera = Camera::framing(glam::Vec3::new(0.0, 0.0, 0.6), 0.7, View::Orbit);
     camera.distance = 3.0;
-    let mut scene = Scene::new();
+    let mut scene = Drawing::new();
     let detail = Detail {
         camera: &camera,
         height: 800.0,
@@ -219,7 +219,7 @@ fn iiwa14_meshes_are_drawn_coarser_when_small_on_screen() {
     draw_meshes(&mut scene, &meshes, &zero.transforms, Some(detail));
     let drawn = scene.closed.len() + scene.triangles.len();
     assert!(3 * drawn <= full, "{drawn} of {full} triangles drawn");
-    let mut near = Scene::new();
+    let mut near = Drawing::new();
     camera.distance = 0.5;
     let detail = Detail {
         camera: &camera,

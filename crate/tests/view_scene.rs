@@ -15,7 +15,7 @@ use skeleton_avoidance::rng::Rng;
 use skeleton_avoidance::scenario::{self, EXAMPLE_NAMES};
 use skeleton_avoidance::skeleton::Skeleton;
 use skeleton_avoidance::view::{
-    DrawOptions, DrawState, Palette, Scene, Stage, View, build_scene, style,
+    DrawOptions, DrawState, Drawing, Palette, Stage, View, build_scene, style,
 };
 use skeleton_avoidance::world::World;
 
@@ -121,7 +121,7 @@ fn count(items: impl Iterator<Item = [f32; 4]>, colors: &[[f32; 4]]) -> usize {
     items.filter(|c| colors.contains(c)).count()
 }
 
-fn solid_colors(scene: &Scene) -> impl Iterator<Item = [f32; 4]> + '_ {
+fn solid_colors(scene: &Drawing) -> impl Iterator<Item = [f32; 4]> + '_ {
     let capsules = scene.capsules.iter().map(|c| c.color);
     capsules.chain(scene.spheres.iter().map(|s| s.color))
 }
@@ -141,7 +141,7 @@ fn the_scene_of_every_example_has_one_mark_per_item() {
     for name in EXAMPLE_NAMES {
         let world = world_after(name, 150);
         let state = DrawState::from(world.state());
-        let mut scene = Scene::new();
+        let mut scene = Drawing::new();
         build_scene(&mut scene, &state, &options(), None, [0.0; 3]);
         let segments = state.skeleton.segments.len();
         let spine = count(solid_colors(&scene), &[style::SPINE]);
@@ -190,7 +190,7 @@ fn the_human_is_skin_coloured_unless_selected() {
     let world = world_after("human-panda", 0);
     let state = DrawState::from(world.state());
     let human = state.obstacles.iter().find(|o| o.human).unwrap();
-    let mut scene = Scene::new();
+    let mut scene = Drawing::new();
     build_scene(&mut scene, &state, &options(), None, [0.0; 3]);
     let skin = count(solid_colors(&scene), &[Palette::HUMAN.solid]);
     assert_eq!(skin, human.parts.len());
@@ -215,7 +215,7 @@ fn a_recorded_state_object_draws_the_live_scene() {
         }
         let bare: DrawState = serde_json::from_value(bare).unwrap();
         let draw = |s: &DrawState| {
-            let mut scene = Scene::new();
+            let mut scene = Drawing::new();
             build_scene(&mut scene, s, &options(), Some("none"), [0.1, 0.2, 0.0]);
             scene
         };
@@ -275,7 +275,7 @@ fn the_sliding_point_of_a_point_task_is_drawn_on_its_link() {
         let points = tasks.iter().filter(|t| t.point_at(0.0).is_some()).count();
         assert_eq!(state.sliding_points.len(), points, "{name}");
         let drawn = DrawState::from(state);
-        let mut scene = Scene::new();
+        let mut scene = Drawing::new();
         build_scene(&mut scene, &drawn, &options(), None, [0.0; 3]);
         let marks: Vec<_> = scene
             .spheres
@@ -316,7 +316,7 @@ fn a_noisy_control_point_shows_its_witness_interval_along_its_segment() {
         .collect();
     assert!(!noisy.is_empty());
     let drawn = DrawState::from(state);
-    let mut scene = Scene::new();
+    let mut scene = Drawing::new();
     build_scene(&mut scene, &drawn, &options(), None, [0.0; 3]);
     let intervals: Vec<_> = scene
         .capsules
@@ -340,7 +340,7 @@ fn a_noisy_control_point_shows_its_witness_interval_along_its_segment() {
     }
     // Exactly sensed: nothing drawn.
     let exact = DrawState::from(world_after("lwr4-elbow", 3).state());
-    let mut scene = Scene::new();
+    let mut scene = Drawing::new();
     build_scene(&mut scene, &exact, &options(), None, [0.0; 3]);
     assert!(
         scene
@@ -354,7 +354,7 @@ fn a_noisy_control_point_shows_its_witness_interval_along_its_segment() {
 fn a_sensed_person_has_a_margin_only_around_the_parts_control_points_answer() {
     use skeleton_avoidance::view::UNCERTAINTY;
     let margins = |state: &DrawState| {
-        let mut scene = Scene::new();
+        let mut scene = Drawing::new();
         build_scene(&mut scene, state, &options(), None, [0.0; 3]);
         count(solid_colors(&scene), &[UNCERTAINTY])
     };
@@ -381,7 +381,7 @@ fn a_sensed_person_has_a_margin_only_around_the_parts_control_points_answer() {
     assert_eq!(margins(&near), answered.len());
     // The state's `part` names the part whose inflated figure is drawn.
     let person = near.obstacles.iter().find(|o| o.human).unwrap();
-    let mut scene = Scene::new();
+    let mut scene = Drawing::new();
     build_scene(&mut scene, &near, &options(), None, [0.0; 3]);
     for name in &answered {
         let k = skeleton_avoidance::human::PART_NAMES

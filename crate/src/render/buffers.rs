@@ -10,7 +10,7 @@ use super::geometry::{ClipVertex, ShadedVertex, SolidInstance};
 use super::solids::{Shading, Solids, Viewpoint};
 use crate::view::occlusion::{Ends, Occluder, Occluders};
 use crate::view::tessellation::{self, Templates};
-use crate::view::{Camera, Scene, View};
+use crate::view::{Camera, Drawing, View};
 
 /// A GPU buffer of vertices, instances or indices that grows (by doubling)
 /// when a frame needs more.
@@ -201,7 +201,7 @@ impl Buffers {
     pub fn upload(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
-        scene: &Scene,
+        scene: &Drawing,
         lens: &Lens,
         shading: &Shading<'_>,
     ) {
@@ -258,7 +258,7 @@ fn finite(values: &[[f32; 4]]) -> bool {
 fn tessellate(
     (out, occluders): (&mut Solids, &mut Occluders),
     templates: &Templates,
-    scene: &Scene,
+    scene: &Drawing,
     lens: &Lens,
     shading: &Shading<'_>,
 ) {

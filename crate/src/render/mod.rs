@@ -1,6 +1,6 @@
 //! The wgpu renderer of the playground (wasm32 only, feature `render`).
 //!
-//! It knows nothing of robots: each frame the caller describes a [`Scene`]
+//! It knows nothing of robots: each frame the caller describes a [`Drawing`]
 //! (tapered capsules and spheres with simple shading, lines of a given
 //! width on screen, flat triangles, a ground grid) and a [`Camera`], and the renderer
 //! draws them into an HTML canvas through WebGPU, or WebGL2 where WebGPU is
@@ -97,7 +97,7 @@ mod gpu;
 mod pipelines;
 mod solids;
 
-use crate::view::{Camera, Scene};
+use crate::view::{Camera, Drawing};
 
 use buffers::{Buffers, Lens};
 pub use gpu::CanvasOptions;
@@ -176,7 +176,7 @@ pub enum RenderError {
     Lost(&'static str),
 }
 
-/// Draws [`Scene`]s into an HTML canvas with wgpu.
+/// Draws [`Drawing`]s into an HTML canvas with wgpu.
 ///
 /// # Example (in an async wasm function)
 /// ```ignore
@@ -315,7 +315,7 @@ impl Renderer {
     /// Uploads `scene` as seen by `camera`; drawn by the next [`Renderer::render`].
     ///
     /// Translucent solids are sorted back to front from the camera's eye.
-    pub fn update(&mut self, scene: &Scene, camera: &Camera) {
+    pub fn update(&mut self, scene: &Drawing, camera: &Camera) {
         let (width, height) = self.size();
         let (width, height) = (width as f32, height as f32);
         let back = camera.backward();

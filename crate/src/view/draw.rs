@@ -11,7 +11,7 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::scene::{Capsule, Line, Scene, Sphere};
+use super::drawing::{Capsule, Drawing, Line, Sphere};
 use super::shapes::{Palette, UNCERTAINTY, draw_inflated, draw_shape, v};
 use crate::distance::PrimitiveSpec;
 use crate::scenario::ShapeSpec;
@@ -267,7 +267,7 @@ pub mod style {
 /// Adds `state` to `scene`; the obstacle whose id is `selected` is
 /// highlighted. `around` is the point near which infinite planes are drawn.
 pub fn build_scene(
-    scene: &mut Scene,
+    scene: &mut Drawing,
     state: &DrawState,
     options: &DrawOptions,
     selected: Option<&str>,
@@ -301,7 +301,7 @@ pub fn build_scene(
 }
 
 /// The spine of every segment, its volume and the nodes, as `options` ask.
-fn draw_skeleton(scene: &mut Scene, skeleton: &SkeletonView, options: &DrawOptions) {
+fn draw_skeleton(scene: &mut Drawing, skeleton: &SkeletonView, options: &DrawOptions) {
     for s in &skeleton.segments {
         let (Some(&a), Some(&b)) = (skeleton.nodes.get(s.from), skeleton.nodes.get(s.to)) else {
             continue;
@@ -340,7 +340,7 @@ fn draw_skeleton(scene: &mut Scene, skeleton: &SkeletonView, options: &DrawOptio
 /// controller reads may truly be. Shaded over all sixteen parts of a body
 /// near the camera it cost a software renderer about 2 ms a frame (of
 /// 26, `human-panda`) for a rim a centimetre wide.
-fn draw_uncertainty(scene: &mut Scene, state: &DrawState) {
+fn draw_uncertainty(scene: &mut Drawing, state: &DrawState) {
     for u in &state.uncertainty {
         let m = u.radius;
         if !(m.is_finite() && m > 0.0) {
@@ -388,7 +388,7 @@ fn draw_uncertainty(scene: &mut Scene, state: &DrawState) {
 /// witness may be given the sensing error: ± [`style::SIGMA_SPAN`]
 /// propagated standard deviations along the segment the point is on,
 /// clipped to that segment (a thick orange stretch of the spine).
-fn draw_witness_interval(scene: &mut Scene, skeleton: &SkeletonView, cp: &ControlPointView) {
+fn draw_witness_interval(scene: &mut Drawing, skeleton: &SkeletonView, cp: &ControlPointView) {
     let Some(sigma) = cp.sigma.map(|s| s.along()) else {
         return;
     };
@@ -429,7 +429,7 @@ fn draw_witness_interval(scene: &mut Scene, skeleton: &SkeletonView, cp: &Contro
 /// A control point, the line to its witness and its repulsion arrow
 /// (`arrow_scale` metres per unit of repulsion, at most
 /// [`style::MAX_ARROW`]).
-fn draw_control_point(scene: &mut Scene, cp: &ControlPointView, arrow_scale: f64) {
+fn draw_control_point(scene: &mut Drawing, cp: &ControlPointView, arrow_scale: f64) {
     let color = if cp.transitioning {
         style::TRANSITIONING
     } else {

@@ -32,7 +32,7 @@ use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::TriMesh as ParryMesh;
 
 use super::camera::Camera;
-use super::scene::{Scene, Triangle};
+use super::drawing::{Drawing, Triangle};
 use crate::fitting::Body;
 
 /// Largest number of mesh triangles drawn (all links together): past it the
@@ -287,11 +287,11 @@ impl LinkMesh {
 }
 
 /// Adds the meshes, placed by `frames` (the row frames at the drawn
-/// configuration), to `scene` (closed ones to [`Scene::closed`]), up to
+/// configuration), to `scene` (closed ones to [`Drawing::closed`]), up to
 /// [`MAX_DRAWN_TRIANGLES`]; each at the level of detail `detail` asks for
 /// (`None`: the full meshes).
 pub fn draw_meshes(
-    scene: &mut Scene,
+    scene: &mut Drawing,
     meshes: &[LinkMesh],
     frames: &[DAffine3],
     detail: Option<Detail<'_>>,
@@ -355,7 +355,7 @@ mod tests {
             ),
         ];
         assert!(!meshes[0].closed);
-        let mut scene = Scene::new();
+        let mut scene = Drawing::new();
         draw_meshes(&mut scene, &meshes, &moved, None);
         assert_eq!(scene.triangles.len(), 1);
         let p = scene.triangles[0].p;
@@ -394,7 +394,7 @@ mod tests {
             assert!(m.closed, "inwards {inwards}");
             assert_eq!((m.vertices.len(), m.triangles.len()), (4, 4));
             assert_eq!(orientation(&m.vertices, &m.triangles), Some(true));
-            let mut scene = Scene::new();
+            let mut scene = Drawing::new();
             draw_meshes(&mut scene, &meshes, &[DAffine3::IDENTITY], None);
             assert_eq!((scene.closed.len(), scene.triangles.len()), (4, 0));
         }
@@ -414,7 +414,7 @@ mod tests {
             };
             let meshes = link_meshes(&[body], &[DAffine3::IDENTITY]);
             assert!(!meshes[0].closed);
-            let mut scene = Scene::new();
+            let mut scene = Drawing::new();
             draw_meshes(&mut scene, &meshes, &[DAffine3::IDENTITY], None);
             assert!(scene.closed.is_empty());
             assert!(!scene.triangles.is_empty());
@@ -538,7 +538,7 @@ mod tests {
                 height: 800.0,
                 tolerance: 1.0,
             };
-            let mut scene = Scene::new();
+            let mut scene = Drawing::new();
             draw_meshes(&mut scene, &meshes, &[DAffine3::IDENTITY], Some(detail));
             let n = scene.closed.len() + scene.triangles.len();
             let pixels = camera.pixels_per_metre(800.0, distance - 0.1);

@@ -4,7 +4,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::scene::{Capsule, Line, Scene, Sphere};
+use super::drawing::{Capsule, Drawing, Line, Sphere};
 use crate::distance::{
     BoxSpec, CapsuleSpec, ConvexHullSpec, DiskSpec, PlaneSpec, PointSpec, Polygon, PolygonSpec,
     PrimitiveSpec, RectangleSpec, SegmentSpec, SphereSpec, TaperedCapsuleSpec,
@@ -61,7 +61,7 @@ pub fn v(p: [f64; 3]) -> [f32; 3] {
 /// of `plane_extent` metres (half side) around the point of the plane
 /// nearest `around`.
 pub fn draw_shape(
-    scene: &mut Scene,
+    scene: &mut Drawing,
     shape: &PrimitiveSpec,
     palette: &Palette,
     around: [f64; 3],
@@ -102,7 +102,7 @@ pub fn draw_shape(
 
 /// Points, segments, spheres and (tapered) capsules as one solid each;
 /// `false` for any other figure (nothing added).
-fn draw_round(scene: &mut Scene, shape: &PrimitiveSpec, color: [f32; 4]) -> bool {
+fn draw_round(scene: &mut Drawing, shape: &PrimitiveSpec, color: [f32; 4]) -> bool {
     let capsule = |a: &[f64; 3], b: &[f64; 3], radius: [f32; 2]| Capsule {
         a: v(*a),
         b: v(*b),
@@ -137,7 +137,7 @@ fn draw_round(scene: &mut Scene, shape: &PrimitiveSpec, color: [f32; 4]) -> bool
 }
 
 /// Rectangles, disks and polygons: translucent triangles and an outline.
-fn draw_flat(scene: &mut Scene, shape: &PrimitiveSpec, palette: &Palette) {
+fn draw_flat(scene: &mut Drawing, shape: &PrimitiveSpec, palette: &Palette) {
     match shape {
         PrimitiveSpec::Rectangle(RectangleSpec {
             center,
@@ -178,7 +178,7 @@ fn draw_flat(scene: &mut Scene, shape: &PrimitiveSpec, palette: &Palette) {
 
 /// An oriented box; a rotation that is not finite or is zero draws it
 /// axis-aligned.
-fn draw_box(scene: &mut Scene, b: &BoxSpec, palette: &Palette) {
+fn draw_box(scene: &mut Drawing, b: &BoxSpec, palette: &Palette) {
     let q = b
         .rotation
         .map(DQuat::from_array)
@@ -197,7 +197,7 @@ fn draw_box(scene: &mut Scene, b: &BoxSpec, palette: &Palette) {
 /// Adds the region within `margin` of a round primitive (point, segment,
 /// sphere, capsule) as a translucent volume; `false` (nothing added) for the
 /// other figures, whose margin is drawn around the witness points instead.
-pub fn draw_inflated(scene: &mut Scene, shape: &PrimitiveSpec, margin: f32) -> bool {
+pub fn draw_inflated(scene: &mut Drawing, shape: &PrimitiveSpec, margin: f32) -> bool {
     let before = (scene.capsules.len(), scene.spheres.len());
     if !draw_round(scene, shape, UNCERTAINTY) {
         return false;
@@ -244,7 +244,7 @@ mod tests {
                 radius: 0.1,
             }),
         ];
-        let mut scene = Scene::new();
+        let mut scene = Drawing::new();
         for s in &shapes {
             draw_shape(&mut scene, s, &Palette::OBSTACLE, [0.0; 3], 1.0);
         }
@@ -255,7 +255,7 @@ mod tests {
 
     #[test]
     fn margins_grow_round_shapes_and_skip_flat_ones() {
-        let mut scene = Scene::new();
+        let mut scene = Drawing::new();
         let sphere = PrimitiveSpec::Sphere(SphereSpec {
             center: [0.0; 3],
             radius: 0.2,
@@ -281,7 +281,7 @@ mod tests {
 
     #[test]
     fn a_box_has_twelve_triangles_and_twelve_edges() {
-        let mut scene = Scene::new();
+        let mut scene = Drawing::new();
         let b = PrimitiveSpec::Box(BoxSpec {
             center: [0.0; 3],
             half_extents: [0.1, 0.2, 0.3],

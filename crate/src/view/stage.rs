@@ -20,9 +20,9 @@ use serde::Deserialize;
 
 use super::camera::{Camera, View};
 use super::draw::{DrawOptions, DrawState, SegmentView, SkeletonView, build_scene};
+use super::drawing::{Drawing, Grid};
 use super::framing::{Reach, fit_points, is_planar};
 use super::meshes::{Detail, LinkMesh, draw_meshes};
-use super::scene::{Grid, Scene};
 use crate::error::FieldError;
 use crate::kinematics::Robot;
 use crate::scenario::CameraSpec;
@@ -80,7 +80,7 @@ pub fn parse_view(field: &str, name: &str) -> Result<Option<View>, FieldError> {
 #[derive(Clone, Debug)]
 pub struct Stage {
     camera: Camera,
-    scene: Scene,
+    scene: Drawing,
     display: Display,
     /// The view chosen at creation, if not `"auto"`.
     fixed_view: Option<View>,
@@ -102,7 +102,7 @@ pub struct Stage {
     dirty: bool,
     /// The scene and camera of the last frame presented (`None` after a
     /// resize, which needs a new frame whatever the scene).
-    presented: Option<(Scene, Camera)>,
+    presented: Option<(Drawing, Camera)>,
     /// Frames presented, and frames due that were left out because their
     /// picture was the one on screen.
     counts: FrameCounts,
@@ -128,7 +128,7 @@ impl Stage {
     pub fn new(fixed_view: Option<View>) -> Self {
         Self {
             camera: Camera::framing(Vec3::ZERO, 1.0, fixed_view.unwrap_or(View::Orbit)),
-            scene: Scene::new(),
+            scene: Drawing::new(),
             display: Display::default(),
             fixed_view,
             auto_view: View::Orbit,
@@ -375,7 +375,7 @@ impl Stage {
     /// nothing changed since the last frame presented, or the scene, rebuilt,
     /// and the camera are the ones on screen (the stage is then clean). After
     /// `Some`, report with [`Stage::drawn`] whether it was presented.
-    pub fn frame(&mut self) -> Option<(&Scene, Camera)> {
+    pub fn frame(&mut self) -> Option<(&Drawing, Camera)> {
         if !self.dirty {
             return None;
         }
@@ -422,7 +422,7 @@ impl Stage {
 
     /// The scene to draw, rebuilt from the world (or the robot's own
     /// skeleton) and the display options.
-    pub fn scene(&mut self) -> &Scene {
+    pub fn scene(&mut self) -> &Drawing {
         let scene = &mut self.scene;
         scene.clear();
         // The ground grid reaches well past the arm (whole metres, 1 … 10 m

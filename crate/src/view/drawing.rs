@@ -93,7 +93,7 @@ impl Default for Grid {
 
 /// One frame's worth of primitives.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Scene {
+pub struct Drawing {
     /// Background colour (sRGB, alpha ignored).
     pub background: [f32; 4],
     /// The ground grid, if any.
@@ -112,7 +112,7 @@ pub struct Scene {
     pub closed: Vec<Triangle>,
 }
 
-impl Default for Scene {
+impl Default for Drawing {
     fn default() -> Self {
         Self {
             background: [0.96, 0.965, 0.975, 1.0],
@@ -126,7 +126,7 @@ impl Default for Scene {
     }
 }
 
-impl Scene {
+impl Drawing {
     /// An empty scene with the default background and ground grid.
     #[must_use]
     pub fn new() -> Self {
