@@ -159,16 +159,17 @@ fn readme_modules() -> Vec<String> {
         .collect()
 }
 
-#[test]
-fn readme_architecture_table_matches_lib_modules() {
+/// `described` names exactly the modules `lib.rs` declares.
+fn assert_names_every_module(mut described: Vec<String>, table: &str) {
     let mut declared = declared_modules();
-    let mut described = readme_modules();
     declared.sort();
     described.sort();
-    assert_eq!(
-        declared, described,
-        "lib.rs modules vs README's architecture table"
-    );
+    assert_eq!(declared, described, "lib.rs modules vs {table}");
+}
+
+#[test]
+fn readme_architecture_table_matches_lib_modules() {
+    assert_names_every_module(readme_modules(), "README's architecture table");
 }
 
 /// The modules `lib.rs`'s own table names (`` //! | [`x`] | `` or
@@ -189,11 +190,7 @@ fn lib_table_modules() -> Vec<String> {
 
 #[test]
 fn lib_table_names_every_module() {
-    let mut declared = declared_modules();
-    let mut described = lib_table_modules();
-    declared.sort();
-    described.sort();
-    assert_eq!(declared, described, "lib.rs modules vs its own table");
+    assert_names_every_module(lib_table_modules(), "its own table");
 }
 
 /// Natively: every file and folder directly inside a module's folder
