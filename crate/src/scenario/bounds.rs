@@ -13,7 +13,7 @@ use serde_json::Value;
 use crate::error::FieldError;
 
 /// Largest magnitude of any number in a scenario, a controller patch or an
-/// obstacle (keys named in [`UNBOUNDED_KEYS`] aside). Geometry has its own,
+/// obstacle (keys named in `UNBOUNDED_KEYS` aside). Geometry has its own,
 /// tighter domain (±1e6 m, see `distance::domain` and `kinematics::spec`);
 /// this bound keeps the rest (gains, velocities, times) from overflowing.
 pub const MAX_NUMBER: f64 = 1e9;
