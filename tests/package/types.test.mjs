@@ -136,7 +136,7 @@ const imported = importUrdf(xml, { radii: { upper: 0.05 } });
 const byName = forwardKinematics(robot, { shoulder: 0.1, elbow: -0.2 });
 const presets: PresetName[] = ['planar3', 'lwr4', 'iiwa14', 'panda', 'ur5', 'dual-arm', 'stanford'];
 const fk = forwardKinematics(robotPreset(presets[presets.length - 1]!), new Float64Array(6));
-// The listed names are the literal type `robotPreset` takes.
+// The listed names are the literal type robotPreset takes.
 const firstPreset = robotPreset(presetNames()[0]);
 const parts = skeleton('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8]).segments.map((s) => s.part.toUpperCase());
 const cp = controlPoint('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8], { link: 4, d: 0, a: 0.04 });
