@@ -2,6 +2,10 @@
 //! Stanford arm's prismatic joint, the dual arm's branches) with random
 //! bodies, a two-link planar arm against its closed form, energy, a moved
 //! base, and bad input.
+//!
+//! Test code only: `dynamics/mod.rs` declares this file `#[cfg(test)] mod
+//! tests;`, so its `unwrap`s are never compiled into the library a
+//! JavaScript or Rust caller uses.
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
