@@ -587,8 +587,8 @@ fn live_edits_move_add_remove_pick_and_reset() {
     assert_eq!(merged.mode, Mode::Torque);
     assert_eq!(merged.torque.stiffness, 100.0);
     assert_eq!(
-        merged.torque.inertia,
-        w.scenario().controller.torque.inertia
+        merged.torque.force_gain,
+        w.scenario().controller.torque.force_gain
     );
     w.set_controller(merged).unwrap();
     for _ in 0..20 {

@@ -29,7 +29,7 @@ use glam::DVec3;
 use super::rows::{
     RepulsionTask, Task, TaskContext, TaskRows, end_effector, repulsion_rows, stack_tasks,
 };
-use super::{ActivePoint, ControllerConfig, TaskReference, activation, repulsion_speed};
+use super::{ActivePoint, ControllerConfig, TaskReference, repulsion_speed};
 use crate::error::FieldError;
 use crate::kinematics::ik::orientation_error;
 use crate::kinematics::{Frames, Robot};
@@ -110,68 +110,6 @@ pub fn velocity_control(
         config,
         None,
     ))
-}
-
-/// Torque mode: `τ = Σ J_taskᵀ f_task + Σ hᵢ J_θ,iᵀ fᵢ − D q̇`, each joint's
-/// torque within its `max_torque`, integrated over `dt` on `M q̈ = τ` with
-/// `M = diag(inertia)` (gravity assumed compensated). Returns the requested
-/// joint velocities and the torques.
-///
-/// # Errors
-/// Only on inconsistent inputs.
-pub fn torque_control(
-    robot: &Robot,
-    frames: &Frames,
-    qdot: &[f64],
-    points: &[ActivePoint],
-    tasks: &[TaskReference],
-    config: &ControllerConfig,
-    dt: f64,
-) -> Result<(Vec<f64>, Vec<f64>), FieldError> {
-    let n = robot.dof();
-    let g = &config.torque;
-    let mut tau: Vec<f64> = qdot.iter().map(|v| -g.joint_damping * v).collect();
-    let mut add = |cols: &[DVec3], force: DVec3| {
-        for (t, col) in tau.iter_mut().zip(cols) {
-            *t += col.dot(force);
-        }
-    };
-    for task in tasks {
-        let (cols, x) = if let Some((dh, _)) = task.point {
-            let pj = dh.jacobians(robot, frames);
-            (pj.j_theta, pj.position)
-        } else {
-            let (full, x, _) = end_effector(robot, frames, task.chain)?;
-            let cols = (0..n)
-                .map(|c| DVec3::new(full.get(0, c), full.get(1, c), full.get(2, c)))
-                .collect();
-            (cols, x)
-        };
-        let xdot = cols
-            .iter()
-            .zip(qdot)
-            .fold(DVec3::ZERO, |s, (c, v)| s + *c * *v);
-        let f = g.stiffness * (task.position - x) + g.damping * (task.velocity - xdot);
-        add(&cols, f);
-    }
-    for p in points {
-        let h = activation(p.distance, config);
-        let force = g.force_gain * h * p.repulsion(config);
-        add(&p.dh.jacobians(robot, frames).j_theta, force);
-    }
-    for (t, j) in tau.iter_mut().zip(&robot.joints) {
-        *t = if t.is_finite() {
-            t.clamp(-j.max_torque, j.max_torque)
-        } else {
-            0.0
-        };
-    }
-    let out = qdot
-        .iter()
-        .zip(&tau)
-        .map(|(v, t)| v + t / g.inertia * dt)
-        .collect();
-    Ok((out, tau))
 }
 
 /// The joint positions and velocities of the arm now.
@@ -294,6 +232,7 @@ pub fn clik2_control(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::avoidance::activation;
     use crate::control_point::DhPoint;
     use crate::control_point::PointMotion;
     use crate::kinematics::presets;

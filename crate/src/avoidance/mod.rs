@@ -5,7 +5,7 @@
 //! | stage | file | what it does |
 //! |---|---|---|
 //! | select | [`selection`] | control points from the scene query (pairs / per obstacle / pinned / self) |
-//! | control | [`control`] | repulsion and tasks → requested joint velocities (velocity, torque, `clik2`) |
+//! | control | [`control`], [`computed_torque`] | repulsion and tasks → requested joint velocities (velocity, `clik2`; torque mode on the robot's `M(q)` with gravity and Coriolis compensated) |
 //! | protect | [`protect`] | every pair's approach speed bounded so the arm can stop before contact (a small QP) |
 //! | limit | [`limits`] | jerk-limited, synchronised tracking within velocity, acceleration, jerk and position limits |
 //!
@@ -46,6 +46,7 @@ use crate::error::{FieldError, non_negative, positive};
 use crate::kinematics::LinkRef;
 use crate::linalg::Damping;
 
+pub mod computed_torque;
 pub mod constraints;
 pub mod control;
 pub mod limits;
@@ -54,7 +55,8 @@ pub mod qp;
 pub mod rows;
 pub mod selection;
 
-pub use control::{JointState, clik2_control, torque_control, velocity_control};
+pub use computed_torque::{TorqueInput, TorqueScratch, torque_control};
+pub use control::{JointState, clik2_control, velocity_control};
 pub use protect::ProtectiveConfig;
 
 /// Which controller drives the joints.
@@ -64,7 +66,8 @@ pub enum Mode {
     /// Joint velocities from task-priority inverse kinematics (default).
     #[default]
     Velocity,
-    /// Joint torques on a simple joint-space dynamics model.
+    /// Joint torques on the robot's own rigid-body dynamics
+    /// ([`computed_torque`]).
     Torque,
     /// Second-order closed-loop inverse kinematics (joint accelerations).
     Clik2,
@@ -111,8 +114,6 @@ pub struct TorqueGains {
     pub damping: f64,
     /// Joint damping `D` (N·m·s/rad; default 2).
     pub joint_damping: f64,
-    /// Diagonal joint inertia `M` of the model (kg·m²; default 0.5).
-    pub inertia: f64,
     /// Force per unit of repulsion speed, `k_f` (N·s/m; default 200).
     pub force_gain: f64,
 }
@@ -123,7 +124,6 @@ impl Default for TorqueGains {
             stiffness: 300.0,
             damping: 40.0,
             joint_damping: 2.0,
-            inertia: 0.5,
             force_gain: 200.0,
         }
     }
@@ -299,7 +299,6 @@ impl ControllerConfig {
         non_negative("torque.stiffness", t.stiffness)?;
         non_negative("torque.damping", t.damping)?;
         non_negative("torque.jointDamping", t.joint_damping)?;
-        positive("torque.inertia", t.inertia)?;
         non_negative("torque.forceGain", t.force_gain)?;
         non_negative("clik2.kp", self.clik2.kp)?;
         non_negative("clik2.kd", self.clik2.kd)?;

@@ -22,6 +22,7 @@
 //! results with Pinocchio's on published robots.
 
 mod algorithms;
+mod factor;
 pub mod inertia;
 pub mod spatial;
 pub mod urdf;
@@ -30,6 +31,7 @@ pub mod urdf;
 mod tests;
 
 pub use algorithms::Workspace;
+pub use factor::MassFactor;
 pub use inertia::{Inertial, InertialSpec};
 
 use glam::DVec3;

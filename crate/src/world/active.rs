@@ -238,6 +238,7 @@ fn record(
         target,
         sigma: None,
         table: Vec::new(),
+        effective_mass: None,
     });
 }
 

@@ -42,7 +42,12 @@ pub(super) fn control(
         data.guard.relaxed = outcome.relaxed;
         data.request = out;
     } else {
-        data.request = request_for(model, data, active, (&state.q, &state.motion.qdot), dt)?;
+        let joints = (state.q.as_slice(), state.motion.qdot.as_slice());
+        data.request = if cfg.mode == Mode::Torque {
+            super::dynamics::torque_request(model, data, active, joints, dt)?
+        } else {
+            request_for(model, data, active, joints, dt)?
+        };
     }
     if state.stop.stopped {
         data.request.iter_mut().for_each(|v| *v = 0.0);
@@ -65,7 +70,21 @@ pub(super) fn request_for(
     let refs = &data.references;
     Ok(match cfg.mode {
         Mode::Velocity => avoidance::velocity_control(robot, frames, active, refs, cfg)?,
-        Mode::Torque => avoidance::torque_control(robot, frames, qdot, active, refs, cfg, dt)?.0,
+        Mode::Torque => {
+            let dynamics = model.dynamics.as_ref().map_err(Clone::clone)?;
+            let input = avoidance::TorqueInput {
+                dynamics,
+                frames,
+                q,
+                qdot,
+                points: active,
+                tasks: refs,
+                config: cfg,
+                dt,
+            };
+            let mut scratch = avoidance::TorqueScratch::new(dynamics);
+            avoidance::torque_control(&input, &mut scratch)?.0
+        }
         Mode::Clik2 => {
             let joints = avoidance::JointState { q, qdot };
             avoidance::clik2_control(robot, frames, joints, active, refs, cfg, dt)?

@@ -26,6 +26,7 @@ pub(super) fn limit_and_integrate(model: &Model, state: &mut State, data: &mut S
         },
         synchronise: true,
     };
+    super::dynamics::before_limit(model, state, data);
     limits::step_with(
         &model.robot,
         &state.q,
@@ -34,6 +35,7 @@ pub(super) fn limit_and_integrate(model: &Model, state: &mut State, data: &mut S
         dt,
         &options,
     );
+    super::dynamics::hold_torque_limits(model, state, data, &options, dt);
     for (q, v) in state.q.iter_mut().zip(&state.motion.qdot) {
         *q += v * dt;
     }

@@ -57,11 +57,13 @@ mod active;
 mod adjacency;
 mod clock;
 mod control;
+mod dynamics;
 mod edit;
 mod limit;
 mod monitor;
 mod obstacles;
 mod parts;
+mod pfl;
 mod probe;
 mod protect;
 mod query;
@@ -81,6 +83,7 @@ mod uncertainty;
 use adjacency::self_pairs_left_out;
 use obstacles::ObstacleState;
 use parts::{EventLog, GuardData, Model, Propagation, Readout, Sensed, State, StepData, StopState};
+pub use pfl::ProtectionReadout;
 pub use probe::{GuardedPair, StepProbe};
 pub use state::{
     ClosestHuman, ControlPointState, ObstacleStateOut, Pick, SegmentState, SkeletonPick,
@@ -160,11 +163,15 @@ impl World {
             .map_err(err)?;
         let anchors = scenario.task.anchors(&robot, &frames);
         let n = robot.dof();
+        let dynamics = dynamics::model_dynamics(&robot);
+        dynamics::require_dynamics(&scenario.controller, &dynamics).map_err(err)?;
+        let dynamics_data = dynamics::data_for(&dynamics);
         let mut w = Self {
             model: Model {
                 scenario,
                 robot,
                 adjacency,
+                dynamics,
             },
             state: State {
                 q,
@@ -197,6 +204,7 @@ impl World {
                 },
                 readout: Readout::default(),
                 propagation: Propagation::default(),
+                dynamics: dynamics_data,
             },
             log: EventLog::default(),
         };

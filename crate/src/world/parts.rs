@@ -21,6 +21,7 @@ use glam::{DQuat, DVec3};
 
 use super::StopReason;
 use super::clock::Clock;
+use super::dynamics::DynamicsData;
 use super::monitor::CommandMonitor;
 use super::obstacles::{ObstacleState, PartMotion};
 use super::state::ControlPointState;
@@ -33,6 +34,8 @@ use crate::avoidance::selection::Key;
 use crate::avoidance::{ActivePoint, TaskReference};
 use crate::dependability::{Event, EventKind};
 use crate::distance::Scene;
+use crate::dynamics::Dynamics;
+use crate::error::FieldError;
 use crate::kinematics::{Frames, Robot};
 use crate::scenario::Scenario;
 use crate::skeleton::Skeleton;
@@ -46,6 +49,9 @@ pub(super) struct Model {
     pub(super) robot: Robot,
     /// `adjacency[i][j]`: links `i` and `j` never repel each other.
     pub(super) adjacency: Vec<Vec<bool>>,
+    /// The robot's rigid-body dynamics, or why it has none (links without
+    /// inertial data).
+    pub(super) dynamics: Result<Dynamics, FieldError>,
 }
 
 /// What the next step needs: the joints, the time, the obstacles as
@@ -111,6 +117,7 @@ pub(super) struct StepData {
     pub(super) guard: GuardData,
     pub(super) readout: Readout,
     pub(super) propagation: Propagation,
+    pub(super) dynamics: DynamicsData,
 }
 
 /// The protective layer's guards of one step and the QP's workspace.
@@ -141,6 +148,8 @@ pub(super) struct Readout {
     /// whatever pair is closest overall.
     pub(super) closest_human: Option<(String, f64)>,
     pub(super) time_to_collision: Option<f64>,
+    /// The bound in force for the human part nearest the arm.
+    pub(super) protection: Option<super::pfl::ProtectionReadout>,
 }
 
 /// The last step's active points and, for the control points that answer

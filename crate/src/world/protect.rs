@@ -79,6 +79,7 @@ fn guard_pairs(state: &State, data: &mut StepData, cfg: &ControllerConfig, pairs
             obstacle_speed: speed,
             obstacle,
             part,
+            contact: None,
         });
     }
     data.guard.pairs = out;
@@ -166,6 +167,7 @@ fn end_pairs(
             obstacle_speed: -d.normal.dot(motion.velocity_at(d.point_b)),
             obstacle: Some(o),
             part: Some(part),
+            contact: None,
         });
     }
 }
@@ -190,6 +192,8 @@ pub(super) fn prepare_guards(
         return Ok(());
     }
     guard_pairs(state, data, cfg, pairs);
+    super::pfl::fill_contacts(model, state, data)?;
+    data.readout.protection = super::pfl::protection_readout(model, state, data, dt);
     data.guard.stop_time = protect::stop_time(&data.guard.pairs, cfg, state.stop.stopped, dt);
     let mut guards = std::mem::take(&mut data.guard.guards);
     let ctx = guard_context(model, state, data, dt);

@@ -50,6 +50,11 @@ pub struct ControlPointState {
     /// The DH table of its shorter manipulator, `{ d, a }` per row
     /// ([`DhPoint::table`]); filled when the state is read.
     pub table: Vec<DhRow>,
+    /// The arm's effective mass at the point along the unit direction
+    /// `u` to the obstacle's witness, `(uᵀ J M⁻¹ Jᵀ u)⁻¹` (kg; filled when
+    /// the state is read, absent for a robot without inertial data).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub effective_mass: Option<f64>,
 }
 
 /// A skeleton segment in [`WorldState`].
@@ -167,11 +172,19 @@ pub struct WorldState {
     pub command_sigma: Option<Vec<f64>>,
     /// Events (all so far, or since a cursor).
     pub events: Vec<Event>,
+    /// The drive torques of the last step, `M q̈ + C q̇ + g` (N·m or N;
+    /// empty for a robot without inertial data).
+    pub torque: Vec<f64>,
     /// Smallest time to collision of the last step (s), if any point closes in.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub time_to_collision: Option<f64>,
     /// Whether the monitor is stopping the robot.
     pub stopped: bool,
+    /// The protective bound in force for the human part nearest the arm
+    /// (`ssm` or `pfl`, its body region; absent with no human within the
+    /// influence distance or the protective layer off).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protection: Option<super::ProtectionReadout>,
     /// Where the sliding point of each point task is now (m, world frame):
     /// the point of the arm that the task's DH values `(d', a')` move along
     /// its link (paper eq. 4), in the order of the tasks; empty without
@@ -234,6 +247,7 @@ pub(super) fn state_since(w: &World, cursor: usize) -> WorldState {
         };
         c.table = point.table(&w.model.robot, &w.data.frames);
     }
+    super::dynamics::effective_masses(&w.model, &w.data, &w.state.q, &mut control_points);
     let obstacles = obstacles_out(&w.state);
     WorldState {
         t: w.state.t,
@@ -257,6 +271,8 @@ pub(super) fn state_since(w: &World, cursor: usize) -> WorldState {
         uncertainty: uncertainty_out(&w.state),
         command: w.data.request.clone(),
         command_sigma,
+        torque: w.data.dynamics.torque.clone(),
+        protection: w.data.readout.protection.clone(),
         events: w
             .log
             .events

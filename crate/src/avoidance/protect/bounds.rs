@@ -57,7 +57,7 @@ pub fn stop_time(pairs: &[GuardPair], config: &ControllerConfig, stopped: bool, 
     let p = config.protective;
     pairs
         .iter()
-        .filter(|g| g.obstacle.is_some() && g.obstacle_speed > 0.0)
+        .filter(|g| g.obstacle.is_some() && g.obstacle_speed > 0.0 && g.contact.is_none())
         .map(|g| (g.distance - p.safety_distance) / g.obstacle_speed - p.reaction_time - dt)
         .fold(f64::INFINITY, f64::min)
 }
@@ -161,7 +161,9 @@ pub fn protect(
         request.iter_mut().for_each(|v| *v = 0.0);
     }
     let all_hold = pairs.iter().all(|g| {
-        g.obstacle_speed <= 0.0 || p.bound(g.distance, g.obstacle_speed, braking_time) >= 0.0
+        g.obstacle_speed <= 0.0
+            || g.contact_bound().is_some_and(|b| b >= 0.0)
+            || p.bound(g.distance, g.obstacle_speed, braking_time) >= 0.0
     });
     let (lo, hi) = admissible_box(ctx.robot, ctx.q, ctx.stop_time);
     let weights = ctx.config.joint_weights.as_deref().unwrap_or(&[]);

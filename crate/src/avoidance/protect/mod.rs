@@ -64,9 +64,11 @@ use crate::kinematics::{Frames, Robot};
 use crate::skeleton::Skeleton;
 
 mod bounds;
+pub mod pfl;
 mod project;
 
 pub use bounds::{GuardContext, Protection, admissible_box, prepare, protect, stop_time};
+pub use pfl::BodyRegion;
 pub use project::{Projection, project};
 
 /// Settings of the protective layer (scenario field
@@ -84,6 +86,22 @@ pub struct ProtectiveConfig {
     /// it overlaps or is closer to than the safety distance (m/s, > 0;
     /// default 0.05): the guard asks for no faster retreat than this.
     pub withdraw_speed: f64,
+    /// `ssm` (default: speed and separation monitoring, contact only at
+    /// rest) or `pfl` (power and force limiting: a human's part may be
+    /// touched at its body region's permissible speed, [`pfl`]).
+    pub mode: ProtectiveMode,
+}
+
+/// The protective mode (`controller.protective.mode`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub enum ProtectiveMode {
+    /// Speed and separation monitoring (default).
+    #[default]
+    Ssm,
+    /// Power and force limiting (ISO/TS 15066 Annex A) where the body
+    /// region allows transient contact, separation monitoring elsewhere.
+    Pfl,
 }
 
 impl Default for ProtectiveConfig {
@@ -93,6 +111,7 @@ impl Default for ProtectiveConfig {
             safety_distance: 0.01,
             reaction_time: 0.01,
             withdraw_speed: 0.05,
+            mode: ProtectiveMode::Ssm,
         }
     }
 }
@@ -208,6 +227,30 @@ pub struct GuardPair {
     pub obstacle: Option<usize>,
     /// Index of the obstacle's part in the scene (a human's hand, …).
     pub part: Option<usize>,
+    /// In `pfl`: the body region of a human's part at the witness that
+    /// allows transient contact, and its permissible speed there.
+    pub contact: Option<ContactLimit>,
+}
+
+/// What power and force limiting allows a pair ([`pfl`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ContactLimit {
+    /// The body region at the witness.
+    pub region: BodyRegion,
+    /// The arm's effective mass at the witness towards the part (kg).
+    pub arm_mass: f64,
+    /// The permissible relative speed of a transient contact (m/s).
+    pub speed: f64,
+}
+
+impl GuardPair {
+    /// The bound power and force limiting allows the arm's approach (the
+    /// permissible speed less the part's own approach), if any.
+    #[must_use]
+    pub fn contact_bound(&self) -> Option<f64> {
+        self.contact.map(|c| c.speed - self.obstacle_speed.max(0.0))
+    }
 }
 
 fn jacobian_at(
@@ -246,6 +289,9 @@ impl GuardBounds {
         let mut bound = config.bound(p.distance, p.obstacle_speed, self.braking);
         if p.obstacle_speed <= 0.0 {
             bound = bound.max(-config.withdraw_speed);
+        }
+        if let Some(allowed) = p.contact_bound() {
+            bound = bound.max(allowed);
         }
         let bound = bound.max(self.floor);
         let soft = self.damper.as_ref().map_or(f64::INFINITY, |d| {
