@@ -56,6 +56,18 @@ export interface JointSpec {
   radius?: number | [number, number] | undefined;
   /** Spine behind the joint (m, ≥ 0): counterbalances, motors. */
   extension?: number | undefined;
+  /** The body this row moves (the link and what is fixed to it), in the row's DH frame; needed for dynamics. */
+  inertial?: InertialSpec | undefined;
+}
+
+/** A body's inertial parameters in a frame it carries (URDF's layout). */
+export interface InertialSpec {
+  /** kg, finite, ≥ 0. */
+  mass: number;
+  /** Centre of mass (m); default `[0, 0, 0]`. */
+  com?: Vec3 | undefined;
+  /** Inertia about the centre of mass (kg·m²), `[ixx, ixy, ixz, iyy, iyz, izz]`: positive semi-definite, principal moments obeying the triangle inequality; default zero. */
+  inertia?: [number, number, number, number, number, number] | undefined;
 }
 
 export interface BranchSpec {

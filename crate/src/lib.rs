@@ -14,8 +14,8 @@
 //!
 //! | module | what it holds | paper |
 //! |---|---|---|
-//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), presets, the DH table from joint axes (for the URDF reader), forward kinematics, end-effector IK (6-D CLIK) | §II, §III |
-//! | [`dynamics`] | rigid-body dynamics: inertial parameters (from URDF `<inertial>` or by hand), recursive Newton–Euler inverse dynamics, the mass matrix, gravity and Coriolis terms | — |
+//! | [`kinematics`] | DH robots (standard and modified, several chains on one base), each row's inertial parameters, presets (with published inertial data), the DH table from joint axes (for the URDF reader), forward kinematics, end-effector IK (6-D CLIK) | §II, §III |
+//! | [`dynamics`] | rigid-body dynamics of a robot whose rows carry inertial parameters (presets, URDF `<inertial>` or by hand), recursive Newton–Euler inverse dynamics, the mass matrix, gravity and Coriolis terms | — |
 //! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
 //! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives; first- and second-order CLIK of a moving point (`clik`) | §III-A, eq. 2–4 |
 //! | [`transition`] | a control point travelling along the skeleton through the nodes, one quintic per DH value (C2) | §III-B, fig. 5 |

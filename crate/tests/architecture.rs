@@ -22,6 +22,14 @@ const LOWER: &[(&str, &str)] = &[
     ),
     ("kinematics/ik.rs", include_str!("../src/kinematics/ik.rs")),
     (
+        "kinematics/inertia.rs",
+        include_str!("../src/kinematics/inertia.rs"),
+    ),
+    (
+        "kinematics/preset_inertials.rs",
+        include_str!("../src/kinematics/preset_inertials.rs"),
+    ),
+    (
         "kinematics/presets.rs",
         include_str!("../src/kinematics/presets.rs"),
     ),

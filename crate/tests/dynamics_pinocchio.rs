@@ -11,7 +11,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use serde::Deserialize;
 
+use skeleton_avoidance::dynamics::Dynamics;
 use skeleton_avoidance::dynamics::urdf::{dynamics_from_urdf, urdf_bodies};
+use skeleton_avoidance::kinematics::{Robot, RobotSpec};
 use skeleton_avoidance::parsers::urdf::UrdfOptions;
 
 /// Largest error relative to the largest magnitude of the compared
@@ -77,6 +79,14 @@ fn compare(xml: &str, json: &str) -> [f64; 4] {
         .unwrap()
         .with_gravity(g)
         .unwrap();
+    // The spec as JavaScript holds it (JSON) gives the same dynamics.
+    let json_spec: RobotSpec =
+        serde_json::from_str(&serde_json::to_string(&imported.spec).unwrap()).unwrap();
+    let from_json = Dynamics::from_robot(Robot::from_spec(&json_spec).unwrap())
+        .unwrap()
+        .with_gravity(g)
+        .unwrap();
+    assert_eq!(from_json, dynamics, "{}", fixture.robot);
     let n = dynamics.dof();
     let mut ws = dynamics.workspace();
     let (mut tau, mut m, mut grav, mut nle) =

@@ -3,7 +3,9 @@
 //! rigid-body algorithm, gravity torques and Coriolis/centrifugal terms
 //! (Featherstone, *Rigid Body Dynamics Algorithms*, 2008, ch. 5 and 6).
 //!
-//! A [`Dynamics`] is a validated [`Robot`] with one [`Inertial`] per row:
+//! A [`Dynamics`] is a validated [`Robot`] with one [`Inertial`] per row
+//! ([`Dynamics::from_robot`] takes them from the robot spec's
+//! `joints[k].inertial`, which presets and the URDF import fill in):
 //! the body moved by row `k` (everything rigidly attached to DH frame `k`),
 //! its mass, centre of mass and inertia about the centre of mass, in DH
 //! frame `k`. Both DH conventions, revolute and prismatic rows, branches
@@ -23,16 +25,15 @@
 
 mod algorithms;
 mod factor;
-pub mod inertia;
 pub mod spatial;
 pub mod urdf;
 
 #[cfg(test)]
 mod tests;
 
+pub use crate::kinematics::inertia::{self, Inertial, InertialSpec};
 pub use algorithms::Workspace;
 pub use factor::MassFactor;
-pub use inertia::{Inertial, InertialSpec};
 
 use glam::DVec3;
 
@@ -94,6 +95,18 @@ impl Dynamics {
             ));
         }
         Self::new(robot, bodies.into_iter().flatten().collect())
+    }
+
+    /// The dynamics of a robot whose rows carry their inertial parameters
+    /// ([`crate::kinematics::JointSpec::inertial`]: given by hand, by a
+    /// preset or read from a URDF's `<inertial>` elements).
+    ///
+    /// # Errors
+    /// `inertials: no inertial data for links panda_link3, panda_link5`
+    /// (the robot's link names, else `link k`) when any row has none.
+    pub fn from_robot(robot: Robot) -> Result<Self, FieldError> {
+        let bodies = robot.joints.iter().map(|j| j.inertial).collect();
+        Self::from_optional(robot, bodies)
     }
 
     /// The same dynamics under gravity `g` (m/s², world frame).

@@ -5,7 +5,7 @@
 
 use glam::{DMat3, DVec3};
 
-use super::inertia::{Inertial, steiner};
+use crate::kinematics::inertia::{Inertial, steiner};
 
 /// A motion vector (angular `w`, linear `v` at the reference point) or a
 /// force vector (moment `w` about the reference point, force `v`).

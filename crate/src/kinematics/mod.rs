@@ -20,6 +20,8 @@
 pub mod dh_from_axes;
 mod frames;
 pub mod ik;
+pub mod inertia;
+pub mod preset_inertials;
 pub mod presets;
 mod spec;
 

@@ -58,6 +58,15 @@
 //! spine must reach its rims. A tighter fit needs segments along the joint axes, which DH rows
 //! of zero length do not give; the volumes stay conservative.
 //!
+//! ## Inertial parameters
+//!
+//! `panda`, `ur5`, `iiwa14`, `lwr4` and `dual-arm` carry every row's
+//! `inertial` (mass, centre of mass, inertia tensor in the row's DH frame):
+//! the manufacturers' URDFs and the identified LWR4 parameters, carried
+//! into the presets' frames; sources, licences and how each was carried
+//! in the docs of `preset_inertials.rs` ([`super::preset_inertials`]).
+//! `planar3` and `stanford` carry none.
+//!
 //! ## Motion limits
 //!
 //! Every preset joint carries `min`, `max`, `maxVelocity`,
@@ -94,6 +103,7 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
+use super::preset_inertials::{IIWA14, LWR4, PANDA, TORSO, UR5, with_inertials};
 use super::spec::{BranchSpec, Convention, JointSpec, JointType, RadiusSpec, RobotSpec};
 use crate::error::FieldError;
 
@@ -143,9 +153,12 @@ fn lwr_rows(d1: f64) -> Vec<JointSpec> {
         (row(0.0, -FRAC_PI_2, 0.0, 0.06), l120, 184.0, 15.0, 38.0),
         (row(0.0, 0.0, 0.078, 0.045), l170, 184.0, 15.0, 38.0),
     ];
-    rows.into_iter()
+    let mut joints: Vec<JointSpec> = rows
+        .into_iter()
         .map(|(j, range, v, acc, tau)| torque(limited(j, range, deg(v), acc), tau))
-        .collect()
+        .collect();
+    with_inertials(&mut joints, &LWR4);
+    joints
 }
 
 /// KUKA LBR iiwa 14 R820: the lwr4's kinematic pattern with its own
@@ -169,10 +182,11 @@ fn iiwa14() -> RobotSpec {
             40.0,
         ),
     ];
-    let joints = rows
+    let mut joints: Vec<JointSpec> = rows
         .into_iter()
         .map(|(j, range, v, acc, tau)| torque(limited(j, range, deg(v), acc), tau))
         .collect();
+    with_inertials(&mut joints, &IIWA14);
     let mut s = fitted(spec("iiwa14", Convention::Standard, joints), &IIWA14_RADII);
     s.tool = Some(super::spec::PoseSpec {
         position: [0.0, 0.0, 0.045],
@@ -242,10 +256,11 @@ fn panda() -> RobotSpec {
             12.0,
         ),
     ];
-    let joints = rows
+    let mut joints: Vec<JointSpec> = rows
         .into_iter()
         .map(|(j, range, v, acc, tau)| torque(limited(j, range, v, acc), tau))
         .collect();
+    with_inertials(&mut joints, &PANDA);
     fitted(spec("panda", Convention::Modified, joints), &PANDA_RADII)
 }
 
@@ -305,10 +320,11 @@ fn ur5() -> RobotSpec {
         (row(0.0, -FRAC_PI_2, 0.09465, 0.045), 25.0, 28.0),
         (row(0.0, 0.0, 0.0823, 0.04), 25.0, 28.0),
     ];
-    let joints = rows
+    let mut joints: Vec<JointSpec> = rows
         .into_iter()
         .map(|(j, acc, tau)| torque(limited(j, l, PI, acc), tau))
         .collect();
+    with_inertials(&mut joints, &UR5);
     fitted(spec("ur5", Convention::Standard, joints), &UR5_RADII)
 }
 
@@ -324,12 +340,13 @@ fn planar3() -> RobotSpec {
 
 fn dual_arm() -> RobotSpec {
     let h = std::f64::consts::FRAC_1_SQRT_2;
-    let column = limited(
+    let mut column = limited(
         row(0.0, 0.0, 0.9, 0.14),
         [-deg(170.0), deg(170.0)],
         deg(90.0),
         5.0,
     );
+    column.inertial = Some(TORSO);
     let mut torso = spec(
         "dual-arm",
         Convention::Standard,

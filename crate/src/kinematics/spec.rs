@@ -4,6 +4,7 @@
 use glam::{DAffine3, DQuat, DVec3};
 use serde::{Deserialize, Serialize};
 
+use super::inertia::{Inertial, InertialSpec};
 use crate::error::{FieldError, bounded, finite, finite3, non_negative, positive};
 
 /// DH convention of a robot's table.
@@ -107,6 +108,11 @@ pub struct JointSpec {
     /// (counterbalances, motors); adds a skeleton segment with `a' < 0`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub extension: Option<f64>,
+    /// The inertial parameters of the body this row moves (the link and
+    /// everything rigidly attached to it), in the row's DH frame; what
+    /// [`crate::kinematics::inertia`] validates and the dynamics need.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertial: Option<InertialSpec>,
 }
 
 /// A further chain carried by a joint frame of an earlier chain (an arm on a
@@ -295,6 +301,9 @@ pub struct Joint {
     pub radius: [f64; 2],
     /// Extension of the `a` spine behind its start (m, ≥ 0).
     pub extension: f64,
+    /// The moved body's inertial parameters in the row's DH frame, when
+    /// the spec gives them.
+    pub inertial: Option<Inertial>,
     /// Index of the frame this row starts from: 0 is the base, `k` the frame
     /// after row `k`.
     pub parent: usize,
@@ -356,6 +365,12 @@ pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, 
         )?,
         None => 0.0,
     };
+    let inertial = match &j.inertial {
+        Some(spec) => {
+            Some(Inertial::from_spec(spec).map_err(|e| e.within(&format!("{field}.inertial")))?)
+        }
+        None => None,
+    };
     Ok(Joint {
         a,
         alpha,
@@ -370,6 +385,7 @@ pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, 
         max_torque,
         radius,
         extension,
+        inertial,
         parent,
         mount: None,
     })

@@ -49,7 +49,7 @@ pub(super) struct DynamicsData {
 /// The dynamics of `robot` from the inertial data of its rows, or the
 /// error naming the links without any.
 pub(super) fn model_dynamics(robot: &Robot) -> Result<Dynamics, FieldError> {
-    Dynamics::from_optional(robot.clone(), vec![None; robot.dof()])
+    Dynamics::from_robot(robot.clone())
 }
 
 /// Refuses a controller that needs the dynamics (torque mode) for a robot

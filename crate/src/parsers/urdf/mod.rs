@@ -34,6 +34,13 @@
 //!   collision meshes (JS: `robotFromUrdf(xml, { meshes })`, `fitUrdf`);
 //!   [`robot_with_links`] lists the links with their meshes and poses.
 //!   [`UrdfOptions::radii`] replaces a link's geometry by a radius.
+//! - Inertial data: every `<inertial>` of the links a row moves, carried
+//!   into the row's DH frame and lumped into one body per row (the fixed
+//!   links with the moving link they ride on): the row's `inertial` (the
+//!   private `inertials.rs` says how; a row whose links carry no mass gets
+//!   none). Bad data (negative mass, a tensor that is not positive
+//!   semi-definite or breaks the triangle inequality) is refused, naming
+//!   the link.
 //! - The spec carries every value used (radius and motion limits, the
 //!   defaults written in); DH values are cleaned of rounding dust
 //!   ([`report::clean`]); [`import_urdf`] also returns a
@@ -52,11 +59,13 @@
 //! [`dh_from_axes`]: crate::kinematics::dh_from_axes
 
 mod chain;
+mod inertials;
 mod links;
 pub mod report;
 mod tree;
 
 use chain::Chain;
+pub use inertials::link_inertial;
 use links::chain_links;
 use tree::Tree;
 
@@ -208,6 +217,7 @@ fn import_with_links(
     }
     let links = chain_links(&urdf, &base, &path, &chain)?;
     let mut robot = chain.into_spec(&urdf.name, options.srdf.as_deref())?;
+    inertials::fill_inertials(&urdf, &mut robot, &links)?;
     let report = report::complete(&urdf, &path, &mut robot, options)?;
     Ok((report::UrdfImport { robot, report }, links))
 }

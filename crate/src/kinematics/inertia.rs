@@ -5,7 +5,8 @@
 use glam::{DAffine3, DMat3, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{FieldError, finite, non_negative};
+use super::MAX_MAGNITUDE;
+use crate::error::{FieldError, bounded, finite, non_negative};
 use crate::linalg::{Mat, symmetric_eigen};
 
 /// Relative slack (of the trace) on the positive semi-definiteness and the
@@ -58,8 +59,9 @@ impl Inertial {
         inertia: DMat3::ZERO,
     };
 
-    /// Validated parameters: a finite, non-negative `mass`, a finite `com`,
-    /// and a finite, symmetric, positive semi-definite `inertia` whose
+    /// Validated parameters: a finite, non-negative `mass`, a finite `com`
+    /// (each at most [`MAX_MAGNITUDE`] in size, as every length of a
+    /// spec), and a finite, symmetric, positive semi-definite `inertia` whose
     /// principal moments satisfy the triangle inequality.
     ///
     /// # Errors
@@ -68,9 +70,9 @@ impl Inertial {
     /// `inertia: not symmetric …`, `inertia: not positive semi-definite …`,
     /// `inertia: principal moments … violate the triangle inequality …`.
     pub fn new(mass: f64, com: DVec3, inertia: DMat3) -> Result<Self, FieldError> {
-        non_negative("mass", mass)?;
+        bounded("mass", non_negative("mass", mass)?, MAX_MAGNITUDE)?;
         for (k, c) in com.to_array().iter().enumerate() {
-            finite(&format!("com[{k}]"), *c)?;
+            bounded(&format!("com[{k}]"), *c, MAX_MAGNITUDE)?;
         }
         check_tensor(&inertia)?;
         Ok(Self {
@@ -96,6 +98,18 @@ impl Inertial {
             DVec3::new(xz, yz, zz),
         );
         Self::new(mass_of(spec)?, DVec3::from_array(spec.com), tensor)
+    }
+
+    /// The spec of these parameters (exact: [`Inertial::from_spec`] gives
+    /// them back bit for bit).
+    #[must_use]
+    pub fn to_spec(&self) -> InertialSpec {
+        let c = self.inertia.to_cols_array_2d();
+        InertialSpec {
+            mass: self.mass,
+            com: self.com.to_array(),
+            inertia: [c[0][0], c[1][0], c[2][0], c[1][1], c[2][1], c[2][2]],
+        }
     }
 
     /// The same body seen from a frame in which the current frame has pose
@@ -155,7 +169,7 @@ fn check_tensor(a: &DMat3) -> Result<(), FieldError> {
     let mut largest: f64 = 0.0;
     for (c, col) in cols.iter().enumerate() {
         for (r, v) in col.iter().enumerate() {
-            finite(&format!("inertia[{r}][{c}]"), *v)?;
+            bounded(&format!("inertia[{r}][{c}]"), *v, MAX_MAGNITUDE)?;
             largest = largest.max(v.abs());
         }
     }
