@@ -165,8 +165,5 @@ fn effective_mass_is_the_inverse_of_the_directional_mobility() {
         masses.push(m);
     }
     // The Panda weighs about 18 kg; its tip feels a few kilograms.
-    assert!(
-        masses.iter().all(|m| *m > 0.3 && *m < 18.0),
-        "{masses:?}"
-    );
+    assert!(masses.iter().all(|m| *m > 0.3 && *m < 18.0), "{masses:?}");
 }

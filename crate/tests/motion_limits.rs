@@ -21,8 +21,14 @@ use skeleton_avoidance::world::{World, simulate};
 fn check(name: &str, robot: &Robot, trace: &Trace) -> MotionAudit {
     let a = audit(robot, trace);
     eprintln!(
-        "{name:<28} |q̇|/lim {:.3}  |q̈|/lim {:.3}  jerk/lim {:.3}  min clearance {:.4} m  contact while moving {:?}",
-        a.velocity, a.acceleration, a.jerk, a.clearance, a.moving_contact
+        "{name:<28} |q̇|/lim {:.3}  |q̈|/lim {:.3}  jerk/lim {:.3}  |τ|/lim {}  min clearance {:.4} m  contact while moving {:?}",
+        a.velocity,
+        a.acceleration,
+        a.jerk,
+        a.torque
+            .map_or("(no inertial data)".to_owned(), |t| format!("{t:.3}")),
+        a.clearance,
+        a.moving_contact
     );
     assert!(a.velocity <= 1.0 + 1e-9, "{name}: velocity {}", a.velocity);
     assert!(
@@ -31,6 +37,11 @@ fn check(name: &str, robot: &Robot, trace: &Trace) -> MotionAudit {
         a.acceleration
     );
     assert!(a.jerk <= 1.0 + 1e-6, "{name}: jerk {}", a.jerk);
+    assert!(
+        a.torque.is_none_or(|t| t <= 1.0 + 1e-6),
+        "{name}: torque {:?}",
+        a.torque
+    );
     assert!(
         a.moving_contact.is_none(),
         "{name}: contact began while moving at {:?}",

@@ -29,6 +29,7 @@ mod obstacle;
 mod sensing;
 mod tagged;
 mod task;
+mod torque_audit;
 mod trace;
 
 pub use camera::{CameraSpec, MAX_FRAME_POINTS, MAX_PITCH};
@@ -39,6 +40,7 @@ pub use obstacle::{
 pub(crate) use obstacle::{TimeOrder, check_timed_points};
 pub use sensing::SensingConfig;
 pub use task::{DhValues, TaskSpec, Tasks};
+pub use torque_audit::audit_torque;
 pub use trace::{MotionAudit, Sample, Trace, TracePoint, audit};
 
 /// Why a scenario (or an edit of a live world) was refused.

@@ -82,6 +82,10 @@ pub struct MotionAudit {
     /// A contact (clearance ≤ 0) that began while a joint turned faster
     /// than 0.01 rad/s: the time it began.
     pub moving_contact: Option<f64>,
+    /// Peak `|τ| / maxTorque` with `τ = M q̈ + C q̇ + g` from the sampled
+    /// `q` ([`super::audit_torque`]); `None` for a robot without inertial
+    /// data.
+    pub torque: Option<f64>,
 }
 
 impl MotionAudit {
@@ -93,11 +97,13 @@ impl MotionAudit {
             && self.acceleration <= 1.0 + 1e-6
             && self.jerk <= 1.0 + 1e-6
             && self.moving_contact.is_none()
+            && self.torque.is_none_or(|t| t <= 1.0 + 1e-6)
     }
 }
 
 /// The [`MotionAudit`] of `trace` (sampled at every step for exact
-/// accelerations and jerks) against `robot`'s joint limits.
+/// accelerations, jerks and torques) against `robot`'s joint limits (the
+/// torque limits when its rows carry inertial data).
 #[must_use]
 pub fn audit(robot: &crate::kinematics::Robot, trace: &Trace) -> MotionAudit {
     let s = &trace.samples;
@@ -150,5 +156,8 @@ pub fn audit(robot: &crate::kinematics::Robot, trace: &Trace) -> MotionAudit {
         prev_v = Some(v);
         prev_a = a;
     }
+    out.torque = crate::dynamics::Dynamics::from_robot(robot.clone())
+        .ok()
+        .map(|d| super::audit_torque(&d, trace));
     out
 }
