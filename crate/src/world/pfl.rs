@@ -64,8 +64,17 @@ pub(super) fn region_at(sensed: &Sensed, part: usize, point: DVec3) -> Option<Bo
     } else {
         0.0
     };
-    let front = (point - (a + axis * along)).dot(forward) > 0.0;
-    region_of(name, OnPart { front, along })
+    let centre = a + axis * along;
+    let front = (point - centre).dot(forward) > 0.0;
+    let above = point.z > centre.z;
+    region_of(
+        name,
+        OnPart {
+            front,
+            along,
+            above,
+        },
+    )
 }
 
 /// In `pfl`: each guard pair against a human's part whose region allows

@@ -42,8 +42,8 @@
 //! (effective masses and effective spring constants of the body model).
 //!
 //! The human model's parts map to regions as follows ([`region_of`]): the
-//! head is the face where the witness is in front of the body and the
-//! skull elsewhere; the torso is the back and shoulders behind the body's
+//! head is the face where the witness is in front of the body and below the
+//! head's centre, the skull and forehead elsewhere; the torso is the back and shoulders behind the body's
 //! frontal plane, the abdomen on the front of its lower 45 % and the chest
 //! above; the feet count as lower legs (the standard's body model has no
 //! foot region).
@@ -166,6 +166,8 @@ pub struct OnPart {
     pub front: bool,
     /// Fraction along the part's axis (0 at its lower end).
     pub along: f64,
+    /// Above the part's centre (world vertical).
+    pub above: bool,
 }
 
 /// The body region of the human model's part `name` (`leftForearm`) at
@@ -178,7 +180,7 @@ pub fn region_of(name: &str, at: OnPart) -> Option<BodyRegion> {
         .or_else(|| name.strip_prefix("right"))
         .unwrap_or(name);
     Some(match side {
-        "head" if at.front => BodyRegion::Face,
+        "head" if at.front && !at.above => BodyRegion::Face,
         "head" => BodyRegion::Skull,
         "neck" => BodyRegion::Neck,
         "torso" if !at.front => BodyRegion::BackShoulders,
@@ -222,6 +224,7 @@ mod tests {
         let front = OnPart {
             front: true,
             along: 0.8,
+            above: false,
         };
         for name in crate::human::PART_NAMES {
             assert!(region_of(name, front).is_some(), "{name}");
@@ -229,16 +232,24 @@ mod tests {
         let low = OnPart {
             front: true,
             along: 0.2,
+            above: false,
         };
         let back = OnPart {
             front: false,
             along: 0.5,
+            above: true,
+        };
+        let forehead = OnPart {
+            front: true,
+            along: 0.0,
+            above: true,
         };
         assert_eq!(region_of("torso", low), Some(BodyRegion::Abdomen));
         assert_eq!(region_of("torso", front), Some(BodyRegion::Chest));
         assert_eq!(region_of("torso", back), Some(BodyRegion::BackShoulders));
         assert_eq!(region_of("head", back), Some(BodyRegion::Skull));
         assert_eq!(region_of("head", front), Some(BodyRegion::Face));
+        assert_eq!(region_of("head", forehead), Some(BodyRegion::Skull));
         assert_eq!(region_of("leftFoot", back), Some(BodyRegion::LowerLeg));
     }
 }
