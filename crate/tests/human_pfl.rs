@@ -202,3 +202,55 @@ fn skull_and_face_keep_separation_monitoring() {
         );
     }
 }
+
+/// The reaching-hand scene: a person in front of the Panda holds the
+/// right hand out and steps 15 cm towards the arm in 0.3 s (0.5 m/s) while
+/// the arm brings its end effector to the hand (its goal 8 cm before the
+/// hand's final surface): unhindered (`None`: the same motion without the
+/// person), in `ssm` and in `pfl`. Returns the time the end effector first comes within 1 cm of
+/// its goal (s) and the smallest clearance (m).
+fn reaching_hand(protective: Option<ProtectiveMode>) -> (f64, f64) {
+    let mut case = case("rightHand", 0.5, PI, BodyRegion::Hand);
+    case.pose = serde_json::json!({ "reach": 1.0 });
+    let k = PART_NAMES.iter().position(|n| *n == case.part).unwrap();
+    let (a, b, r) = parts_at_origin(&case)[k];
+    let start = DVec3::new(0.4737, 0.0, 0.5155);
+    let surface = start + DVec3::X * 0.25;
+    let position = surface + DVec3::X * 0.15 - (a.lerp(b, 0.5) - DVec3::X * r);
+    let goal = surface - DVec3::X * 0.08;
+    let mut s = scene(position, &case, goal.to_array(), ProtectiveMode::Ssm);
+    s.obstacles[0].motion = Some(
+        serde_json::from_value(serde_json::json!({
+            "type": "waypoints", "points": [[0.0, 0.0, 0.0], [-0.15, 0.0, 0.0]], "times": [0.0, 0.3]
+        }))
+        .unwrap(),
+    );
+    // No protection from the person: the same motion without the person
+    // (switching the protective layer off would also drop the joints'
+    // admissible box and its self-collision guards, and change the path).
+    match protective {
+        Some(mode) => s.controller.protective.mode = mode,
+        None => s.obstacles.clear(),
+    }
+    let mut w = World::new(s).unwrap();
+    let mut min = f64::INFINITY;
+    for k in 1..=(3.0 / DT) as usize {
+        w.step(DT);
+        min = min.min(w.clearance_of("person").unwrap_or(f64::INFINITY));
+        if (w.frames().end_effector().translation - goal).length() < 0.01 {
+            return (k as f64 * DT, min);
+        }
+    }
+    (f64::INFINITY, min)
+}
+
+#[test]
+fn on_a_reaching_hand_pfl_is_slower_than_no_protection_and_faster_than_ssm() {
+    let none = reaching_hand(None);
+    let pfl = reaching_hand(Some(ProtectiveMode::Pfl));
+    let ssm = reaching_hand(Some(ProtectiveMode::Ssm));
+    eprintln!(
+        "time to the goal (s) and smallest clearance (m): none {none:?}, pfl {pfl:?}, ssm {ssm:?}"
+    );
+    assert!(none.0 < pfl.0 && pfl.0 < ssm.0, "{none:?} {pfl:?} {ssm:?}");
+}
