@@ -372,13 +372,20 @@ export interface Controller {
   /** One positive weight per joint (eq. 4's W). */
   jointWeights?: number[] | undefined;
   damping?: { epsilon?: number | undefined; lambdaMax?: number | undefined } | undefined;
-  torque?: { stiffness?: number | undefined; damping?: number | undefined; jointDamping?: number | undefined; inertia?: number | undefined; forceGain?: number | undefined } | undefined;
+  torque?: { stiffness?: number | undefined; damping?: number | undefined; jointDamping?: number | undefined; forceGain?: number | undefined } | undefined;
   clik2?: { kp?: number | undefined; kd?: number | undefined } | undefined;
   selfCollision?: boolean | undefined;
   /** Whether a point task subtracts its point's own sliding (eq. 4; default true). */
   movingPointTerms?: boolean | undefined;
   /** The protective layer beneath the repulsion. */
-  protective?: { enabled?: boolean | undefined; safetyDistance?: number | undefined; reactionTime?: number | undefined; withdrawSpeed?: number | undefined } | undefined;
+  protective?: {
+    enabled?: boolean | undefined;
+    safetyDistance?: number | undefined;
+    reactionTime?: number | undefined;
+    withdrawSpeed?: number | undefined;
+    /** `ssm` (default) or `pfl`: ISO/TS 15066 power and force limiting (needs inertial data). */
+    mode?: 'ssm' | 'pfl' | undefined;
+  } | undefined;
 }
 
 /** `World.controller()`: every field of `Controller` in effect. */
@@ -557,6 +564,28 @@ export interface StateControlPoint extends TraceControlPoint {
   target?: DhPoint | undefined;
   /** The DH table of its shorter manipulator, one `{ d, a }` per row (fig. 5). */
   table: { d: number; a: number }[];
+  /** The arm's effective mass at the point towards its obstacle, `(uᵀ J M⁻¹ Jᵀ u)⁻¹` (kg); absent without inertial data. */
+  effectiveMass?: number;
+}
+
+/** An ISO/TS 15066 body region (Annex A). */
+export type BodyRegion =
+  | 'skull' | 'face' | 'neck' | 'backShoulders' | 'chest' | 'abdomen' | 'pelvis'
+  | 'upperArm' | 'forearm' | 'hand' | 'thigh' | 'lowerLeg';
+
+/** `WorldState.protection`: the bound in force for the human part nearest the arm. */
+export interface ProtectionState {
+  /** `id:part`. */
+  part: string;
+  region: BodyRegion;
+  /** Which bound holds the arm's approach. */
+  active: 'ssm' | 'pfl';
+  /** Clearance (m). */
+  distance: number;
+  /** Separation monitoring's bound on the approach (m/s). */
+  ssmBound: number;
+  /** In `pfl` where the region allows transient contact: the arm's effective mass (kg) and the permissible speed (m/s). */
+  contact?: { region: BodyRegion; armMass: number; speed: number };
 }
 
 export interface WorldState {
@@ -581,8 +610,12 @@ export interface WorldState {
   command: number[];
   commandSigma?: number[] | undefined;
   events: TraceEvent[];
+  /** The drive torques of the last step, `M q̈ + C q̇ + g` (N·m or N); empty without inertial data. */
+  torque: number[];
   timeToCollision?: number | undefined;
   stopped: boolean;
+  /** The protective bound in force for the human part nearest the arm (absent with none within reach). */
+  protection?: ProtectionState;
   /** Where the sliding point of each point task is now (m), in task order; empty without point tasks. */
   slidingPoints: Vec3[];
 }

@@ -72,6 +72,7 @@ export class Readouts {
       // the clearance line, and there is no line for the nearest human part).
       t: 10, stopped: false, minClearance: 0.081, timeToCollision: 4.24,
       closestHuman: { part: `${person.id}:rightThigh`, distance: 0.18 },
+      protection: { part: `${person.id}:rightThigh`, region: 'thigh', active: 'ssm', distance: 0.18, ssmBound: 0.85 },
       uncertainty: obstacles.filter((o) => Object.hasOwn(sensed, o.id)).map((o) => ({ obstacle: o.id, switchProbability: 0.3, sigma: 0.004 })),
       controlPoints: [cp(true), cp(false), cp(false)],
     };
@@ -88,7 +89,11 @@ export class Readouts {
 
 const ms = (x) => `${(x * 1000).toFixed(0)} mm`;
 
-/** The text over the view: time and state, clearance, time to collision, control points. */
+/**
+ * The text over the view: time and state, clearance, time to collision, the
+ * protective bound in force for the nearest human part, control points (with
+ * the arm's effective mass towards their obstacle).
+ */
 export function hudLines(s, running, influence) {
   const ttc = s.timeToCollision;
   let ttcText = '—  (nothing closing in)';
@@ -102,12 +107,21 @@ export function hudLines(s, running, influence) {
   // links, another obstacle) is closer and the line above does not name it.
   const human = s.closestHuman;
   if (human && human.part !== s.closestPart) lines.push(`nearest human part ${human.part}  ${ms(human.distance)}`);
+  // Which protective bound holds the approach to the nearest human part:
+  // separation monitoring, or power and force limiting's contact speed.
+  const p = s.protection;
+  if (p) {
+    const bound = p.active === 'pfl' ? p.contact.speed : p.ssmBound;
+    const mass = p.contact ? `  arm ${p.contact.armMass.toFixed(1)} kg` : '';
+    lines.push(`protection ${p.active} ${p.region}  ≤ ${Math.max(0, bound).toFixed(2)} m/s${mass}`);
+  }
   for (const u of s.uncertainty ?? []) {
     if (u.switchProbability > 0) lines.push(`${u.obstacle}: switch p ${u.switchProbability.toFixed(2)}  σ ${ms(u.sigma)}`);
   }
   s.controlPoints.slice(0, 3).forEach((cp, i) => {
     let text = `cp${i + 1} link ${cp.link}  d' ${cp.d.toFixed(3)}  a' ${cp.a.toFixed(3)} m${cp.part ? `  ← ${cp.part}` : ''}`;
     if (cp.sigma) text += `  ±${ms(Math.max(cp.sigma.d, cp.sigma.a))}`;
+    if (Number.isFinite(cp.effectiveMass)) text += `  m ${cp.effectiveMass.toFixed(1)} kg`;
     if (cp.transitioning && cp.target) text += `\n    → link ${cp.target.link} (${cp.target.d.toFixed(3)}, ${cp.target.a.toFixed(3)})`;
     lines.push(text);
   });

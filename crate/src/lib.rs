@@ -15,15 +15,15 @@
 //! | module | what it holds | paper |
 //! |---|---|---|
 //! | [`kinematics`] | DH robots (standard and modified, several chains on one base), each row's inertial parameters, presets (with published inertial data), the DH table from joint axes (for the URDF reader), forward kinematics, end-effector IK (6-D CLIK) | §II, §III |
-//! | [`dynamics`] | rigid-body dynamics of a robot whose rows carry inertial parameters (presets, URDF `<inertial>` or by hand), recursive Newton–Euler inverse dynamics, the mass matrix, gravity and Coriolis terms | — |
+//! | [`dynamics`] | rigid-body dynamics of a robot whose rows carry inertial parameters (presets, URDF `<inertial>` or by hand), recursive Newton–Euler inverse dynamics, the mass matrix (factored for forward dynamics and effective masses), gravity and Coriolis terms | — |
 //! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
 //! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives; first- and second-order CLIK of a moving point (`clik`) | §III-A, eq. 2–4 |
 //! | [`transition`] | a control point travelling along the skeleton through the nodes, one quintic per DH value (C2) | §III-B, fig. 5 |
-//! | [`avoidance`] | control-point selection, repulsion, velocity / torque / second-order CLIK controllers with task priority and joint weights, the constraints that bring their own QP rows (`rows`: limits and tasks), the QP and its assembler, the protective layer and the jerk-limited joint limiter | §II, §III-A |
+//! | [`avoidance`] | control-point selection, repulsion, velocity / torque (on the robot's own `M(q)`, gravity and Coriolis compensated) / second-order CLIK controllers with task priority and joint weights, the constraints that bring their own QP rows (`rows`: limits and tasks), the QP and its assembler, the protective layer (separation monitoring, or ISO/TS 15066 power and force limiting) and the jerk-limited joint limiter | §II, §III-A |
 //! | [`dependability`] | sensing models, first-order uncertainty propagation, switch probability, chattering (stop or lock, every selection mode), time to collision, events | §IV |
 //! | [`human`] | the interacting human: an articulated body of capsules sized by anthropometric proportions, posed by joint angles, keyframes or a motion library, with every part's velocity | §II |
-//! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples | — |
-//! | [`world`] | a live simulation: the control step as a pipeline of stages, obstacle edits, picking, `simulate` | — |
+//! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples, the motion audit (velocity, acceleration, jerk, torque) | — |
+//! | [`world`] | a live simulation: the control step as a pipeline of stages, torque limits held in every motion, obstacle edits, picking, `simulate` | — |
 //! | [`study`] | Monte Carlo studies: many runs of a scenario with independent sensing seeds, reduced to distributions (clearance quantiles, probabilities of contact, stop, chattering), in parallel with the feature `parallel`, merged from shards | §IV |
 //! | [`linalg`] | small dense matrices, symmetric eigen-decomposition, the weighted damped least-squares inverse; depends on nothing else in the crate | §III-A |
 //! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |
