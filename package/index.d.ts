@@ -564,7 +564,7 @@ export interface StateControlPoint extends TraceControlPoint {
   target?: DhPoint | undefined;
   /** The DH table of its shorter manipulator, one `{ d, a }` per row (fig. 5). */
   table: { d: number; a: number }[];
-  /** The arm's effective mass at the point towards its obstacle, `(uᵀ J M⁻¹ Jᵀ u)⁻¹` (kg); absent without inertial data. */
+  /** The arm's effective mass at the point towards its obstacle, `(uᵀ J M⁻¹ Jᵀ u)⁻¹` (kg); absent without inertial data and where no joint moves the point that way. */
   effectiveMass?: number;
 }
 

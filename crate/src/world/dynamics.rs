@@ -241,6 +241,6 @@ pub(super) fn effective_masses(
         };
         let j = point.jacobians(&model.robot, &data.frames);
         let row: Vec<f64> = j.j_theta.iter().map(|col| col.dot(u)).collect();
-        c.effective_mass = Some(factor.effective_mass(&row));
+        c.effective_mass = Some(factor.effective_mass(&row)).filter(|m| m.is_finite());
     }
 }

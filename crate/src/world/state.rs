@@ -52,7 +52,8 @@ pub struct ControlPointState {
     pub table: Vec<DhRow>,
     /// The arm's effective mass at the point along the unit direction
     /// `u` to the obstacle's witness, `(uᵀ J M⁻¹ Jᵀ u)⁻¹` (kg; filled when
-    /// the state is read, absent for a robot without inertial data).
+    /// the state is read; absent for a robot without inertial data, and
+    /// where no joint moves the point towards the obstacle).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub effective_mass: Option<f64>,
 }
