@@ -724,6 +724,15 @@ export function forwardKinematics(robot: RobotInput, q: JointInput): ForwardKine
 export function skeleton(robot: RobotInput, q: JointInput): SkeletonResult;
 export function controlPoint(robot: RobotInput, q: JointInput, point: DhPoint, rates?: ControlPointRates): ControlPointResult;
 export function skeletonPoint(robot: RobotInput, q: JointInput, at: { segment: number; t: number }): DhPoint & { position: Vec3 };
+/** Options of `inverseDynamics`. */
+export interface DynamicsOptions {
+  /** m/s², world frame; default `[0, 0, -9.81]`. */
+  gravity?: Vec3 | undefined;
+}
+/** Joint torques (N·m) and forces (N) `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)` (recursive Newton–Euler); every row needs `inertial`. */
+export function inverseDynamics(robot: RobotInput, q: JointInput, qdot: JointInput, qddot: JointInput, options?: DynamicsOptions): Float64Array;
+/** The joint-space mass matrix `M(q)`, n × n as rows (composite rigid bodies); every row needs `inertial`. */
+export function massMatrix(robot: RobotInput, q: JointInput): number[][];
 export function distance(a: Primitive, b: Primitive): DistanceResult;
 /** A figure's reference point: the point motions move and `moveObstacle` places. */
 export function referencePoint(shape: Shape): Vec3;

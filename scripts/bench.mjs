@@ -127,6 +127,24 @@ table(
   5,
 );
 
+// Dynamics per control step on the 7-DOF presets with inertial data:
+// Newton–Euler inverse dynamics and the mass matrix, natively (medians of
+// the batch rounds of crate/benches/dynamics.rs).
+{
+  const rounds = 5;
+  const samples = {};
+  for (let k = 0; k < rounds; k++) {
+    for (const [id, ns] of Object.entries(nativeRound('dynamics'))) (samples[id] ??= []).push(ns);
+  }
+  const goals = { rnea: 'native ≤ 2 µs', mass_matrix: 'native ≤ 3 µs' };
+  console.log('\n=== dynamics per control step: RNEA τ = M q̈ + C q̇ + g and the mass matrix M(q), 7-DOF presets');
+  console.log(`(${rounds} native rounds; medians per call, reused workspace)`);
+  console.log(`${'workload'.padEnd(30)} ${'native µs'.padStart(10)}  goal`);
+  for (const [id, xs] of Object.entries(samples)) {
+    console.log(`${id.padEnd(30)} ${(median(xs) / 1000).toFixed(3).padStart(10)}  ${goals[id.split('/')[1]] ?? ''}`);
+  }
+}
+
 // Monte Carlo throughput: runs per second of a 2 s scenario (lwr4 at 1 kHz,
 // noisy sensing), natively on one thread and on every core (rayon), and in
 // wasm under Node (one thread: a wasm module has no threads here).

@@ -2,6 +2,7 @@
 //! benchmarks (Node), so that both measure exactly the same code.
 
 use crate::control_point::{DhPoint, PointJacobians};
+use crate::dynamics::{Dynamics, Workspace};
 use crate::error::FieldError;
 use crate::kinematics::{Frames, Robot, presets};
 use crate::rng::Rng;
@@ -69,6 +70,71 @@ impl KinematicsStep {
             sum += j.position.x + j.j_theta[0].y + j.j_a[0].z + j.j_d[0].x;
         }
         sum
+    }
+}
+
+/// Which dynamics term a [`DynamicsStep`] computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DynamicsTerm {
+    /// Recursive Newton–Euler: `τ = M q̈ + C q̇ + g`.
+    InverseDynamics,
+    /// The composite-rigid-body mass matrix `M(q)`.
+    MassMatrix,
+}
+
+/// The dynamics of one control step for a preset with inertial data, at a
+/// sequence of random states, with one reused workspace.
+#[derive(Debug)]
+pub struct DynamicsStep {
+    dynamics: Dynamics,
+    workspace: Workspace,
+    states: Vec<[Vec<f64>; 3]>,
+    tau: Vec<f64>,
+    mass: Vec<f64>,
+    next: usize,
+}
+
+impl DynamicsStep {
+    /// The workload for preset `name` with `states` random states.
+    ///
+    /// # Errors
+    /// An unknown preset, or one without inertial data.
+    pub fn new(name: &str, states: usize) -> Result<Self, FieldError> {
+        let dynamics = Dynamics::from_robot(Robot::from_spec(&presets::preset(name)?)?)?;
+        let n = dynamics.dof();
+        let mut rng = Rng::new(2);
+        let mut draw = |s: f64| (0..n).map(|_| rng.range(-s, s)).collect::<Vec<f64>>();
+        let states = (0..states.max(1))
+            .map(|_| [draw(1.5), draw(1.0), draw(3.0)])
+            .collect();
+        Ok(Self {
+            workspace: dynamics.workspace(),
+            tau: vec![0.0; n],
+            mass: vec![0.0; n * n],
+            dynamics,
+            states,
+            next: 0,
+        })
+    }
+
+    /// Computes `term` at the next state; returns a checksum so that
+    /// nothing is optimised away.
+    pub fn run(&mut self, term: DynamicsTerm) -> f64 {
+        let [q, qd, qdd] = &self.states[self.next];
+        self.next = (self.next + 1) % self.states.len();
+        let ws = &mut self.workspace;
+        let done = match term {
+            DynamicsTerm::InverseDynamics => {
+                self.dynamics
+                    .inverse_dynamics(ws, q, (qd, qdd), &mut self.tau)
+            }
+            DynamicsTerm::MassMatrix => self.dynamics.mass_matrix(ws, q, &mut self.mass),
+        };
+        match (done, term) {
+            (Err(_), _) => f64::NAN,
+            (Ok(()), DynamicsTerm::InverseDynamics) => self.tau.iter().sum(),
+            (Ok(()), DynamicsTerm::MassMatrix) => self.mass[0] + self.mass[self.mass.len() - 1],
+        }
     }
 }
 

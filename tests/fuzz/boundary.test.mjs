@@ -42,6 +42,15 @@ const ROBOTS = [
   { convention: 'standard', joints: [{ a: 0.4, alpha: 0, d: 0, theta: 0 }, { a: 0.3, alpha: 0, d: 0, theta: 0, radius: [0.05, 0.03] }] },
 ];
 const Q = { planar3: [0.1, 0.2, 0.3], lwr4: [0, 0.3, 0, -1, 0, 0.5, 0] };
+// Robots with inertial data (for the dynamics): a preset, and a spec with a
+// prismatic row given by hand.
+const DYNAMIC = [
+  [{ preset: 'lwr4' }, Q.lwr4],
+  [{ convention: 'modified', joints: [
+    { a: 0, alpha: 0, d: 0.3, theta: 0, inertial: { mass: 2, com: [0.1, 0, 0], inertia: [0.01, 0, 0, 0.02, 0, 0.02] } },
+    { a: 0.4, alpha: 1.5707963267948966, d: 0, theta: 0, type: 'prismatic', inertial: { mass: 1 } },
+  ] }, [0.1, 0.2]],
+];
 // Each example's own duration: a fresh World may start anywhere in it (a
 // person beside the arm, control points answering noisy obstacles).
 const DURATIONS = sa.exampleScenarioNames().map((n) => sa.exampleScenario(n).duration);
@@ -91,6 +100,11 @@ const FUNCTIONS = {
   skeleton: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q)]; },
   controlPoint: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q), arg(r, { link: 2, d: 0, a: 0.1 }), r.chance(0.5) ? undefined : arg(r, { qdot: q.map(() => 0.1), aRate: 0.1 })]; },
   skeletonPoint: (r) => { const [ro, q] = robotQ(r); return [arg(r, ro), arg(r, q), arg(r, { segment: 0, t: 0.5 })]; },
+  inverseDynamics: (r) => {
+    const [ro, q] = r.pick(DYNAMIC);
+    return [arg(r, ro), arg(r, q), arg(r, q.map(() => 0.5)), arg(r, q.map(() => -1)), r.chance(0.5) ? undefined : arg(r, { gravity: [0, 0, -9.81] })];
+  },
+  massMatrix: (r) => { const [ro, q] = r.pick(DYNAMIC); return [arg(r, ro), arg(r, q)]; },
   distance: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, r.pick(PRIMITIVES))],
   referencePoint: (r) => [arg(r, r.pick(PRIMITIVES))],
   translateShape: (r) => [arg(r, r.pick(PRIMITIVES)), arg(r, [0.1, -0.2, 0.3])],

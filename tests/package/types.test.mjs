@@ -75,6 +75,9 @@ add('T.SkeletonResult', sa.skeleton('panda', q));
 add('T.ControlPointResult', sa.controlPoint('panda', q, { link: 4, d: 0, a: 0.04 }));
 add('T.ControlPointResult', sa.controlPoint('panda', q, { link: 4, d: 0, a: 0.04 }, { qdot: [0.1, 0, 0, 0.2, 0, 0, 0], aRate: 0.01, dRate: 0 }));
 add('T.DhPoint & { position: T.Vec3 }', sa.skeletonPoint('panda', q, { segment: 3, t: 0.5 }));
+add('Float64Array', sa.inverseDynamics('panda', q, q, q));
+add('ReturnType<typeof T.inverseDynamics>', sa.inverseDynamics('iiwa14', q, q, q, { gravity: [0, 0, -9.81] }));
+add('number[][]', sa.massMatrix({ preset: 'ur5' }, q.slice(0, 6)));
 const shapes = [
   { type: 'point', p: [0, 0, 1] }, { type: 'segment', a: [0, 0, 0], b: [1, 0, 0] },
   { type: 'sphere', center: [0.5, 0, 0.5], radius: 0.1 }, { type: 'capsule', a: [0, 1, 0], b: [1, 1, 0], radius: 0.05 },
@@ -124,7 +127,7 @@ console.log(n);
 const USAGE = `
 import {
   robotPreset, presetNames, robotFromUrdf, importUrdf, forwardKinematics, skeleton, controlPoint, skeletonPoint,
-  distance, referencePoint, translateShape, simulate, exampleScenario, exampleScenarioNames,
+  inverseDynamics, massMatrix, distance, referencePoint, translateShape, simulate, exampleScenario, exampleScenarioNames,
   monteCarlo, monteCarloRuns, monteCarloMerge, World, Viewer,
   type EventOf, type TraceEvent, type Primitive, type Scenario, type PresetName,
 } from 'skeleton-avoidance';
@@ -141,6 +144,8 @@ const firstPreset = robotPreset(presetNames()[0]);
 const parts = skeleton('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8]).segments.map((s) => s.part.toUpperCase());
 const cp = controlPoint('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8], { link: 4, d: 0, a: 0.04 });
 const sp = skeletonPoint('planar3', [0, 0, 0], { segment: 1, t: 0.5 });
+const tau: Float64Array = inverseDynamics('panda', [0, -0.5, 0, -2, 0, 1.5, 0.8], new Float64Array(7), [0, 0, 0, 0, 0, 0, 0], { gravity: [0, 0, -9.81] });
+const mass: number[][] = massMatrix({ preset: 'lwr4' }, new Float64Array(7));
 const box: Primitive = { type: 'box', center: [0.5, 0, 0.5], halfExtents: [0.1, 0.1, 0.1] };
 const d = distance(box, { type: 'point', p: [0.5, 0, 1] });
 const moved = translateShape(box, [0, 0, 0.1]);
@@ -176,7 +181,7 @@ try {
 }
 console.log(JSON.stringify({
   joints: robot.jointNames, radiusFrom: imported.report.joints.map((j) => j.radiusFrom), byName: byName.origins.length, presets: presetNames(), examples: exampleScenarioNames().length, fk: fk.origins.length, firstPreset: firstPreset.joints.length, parts,
-  cp: cp.jTheta.length, sp: sp.link, d: d.distance, normal: d.normal, unique: d.unique, moved: referencePoint(moved),
+  cp: cp.jTheta.length, sp: sp.link, tau: tau.length, mass: mass.map((row) => row.length), d: d.distance, normal: d.normal, unique: d.unique, moved: referencePoint(moved),
   stops: stops.length, described: described.length, time, clearance, runs: study.runs, same: JSON.stringify(merged) === JSON.stringify(study), viewer,
 }));
 
@@ -252,6 +257,8 @@ test('every field the runtime returns is declared, every required field is retur
   assert.deepEqual(r.presets, ['planar3', 'lwr4', 'iiwa14', 'panda', 'ur5', 'dual-arm', 'stanford']);
   assert.equal(r.examples, 7);
   assert.equal(r.fk, 7);
+  assert.equal(r.tau, 7);
+  assert.deepEqual(r.mass, [7, 7, 7, 7, 7, 7, 7]);
   assert.equal(r.firstPreset, 3);
   assert.ok(r.parts.every((p) => ['D', 'A', 'EXTENSION'].includes(p)) && r.parts.length > 5);
   assert.equal(r.cp, 3);

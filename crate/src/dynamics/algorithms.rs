@@ -23,6 +23,8 @@ pub struct Workspace {
     pub(super) acceleration: Vec<Spatial>,
     /// Per row: the force the row's joint transmits.
     pub(super) force: Vec<Spatial>,
+    /// `n × n`: the mass matrix and its Cholesky factor (forward dynamics).
+    pub(super) mass: Vec<f64>,
 }
 
 /// Which terms of the equation of motion a Newton–Euler pass includes:
@@ -69,6 +71,7 @@ impl Dynamics {
             velocity: vec![Spatial::ZERO; n + 1],
             acceleration: vec![Spatial::ZERO; n + 1],
             force: vec![Spatial::ZERO; n],
+            mass: vec![0.0; n * n],
         };
         // One pass sizes the frames' lists; later passes reuse them.
         let _ = self.robot.forward_into(&vec![0.0; n], &mut ws.frames);
@@ -181,9 +184,76 @@ impl Dynamics {
         q: &[f64],
         m: &mut [f64],
     ) -> Result<(), FieldError> {
-        let n = self.dof();
-        check_out("m", m, n * n)?;
+        check_out("m", m, self.dof() * self.dof())?;
         self.prepare(ws, q)?;
+        self.composite(ws, m);
+        Ok(())
+    }
+
+    /// Forward dynamics: the joint accelerations
+    /// `q̈ = M(q)⁻¹ (τ − C(q, q̇) q̇ − g(q))` into `qddot` (Newton–Euler for
+    /// the bias, the composite-rigid-body mass matrix and its Cholesky
+    /// factor, all in the workspace).
+    ///
+    /// # Errors
+    /// An invalid `q`, `qdot` or `tau` (`tau[3]: not a finite number`);
+    /// `qddot` of the wrong length; `inertials: the mass matrix is singular
+    /// at this q (joint 7 moves no mass or inertia about its axis)`.
+    pub fn forward_dynamics(
+        &self,
+        ws: &mut Workspace,
+        q: &[f64],
+        (qdot, tau): (&[f64], &[f64]),
+        qddot: &mut [f64],
+    ) -> Result<(), FieldError> {
+        let n = self.dof();
+        check_vector("qdot", qdot, n)?;
+        check_vector("tau", tau, n)?;
+        check_out("qddot", qddot, n)?;
+        self.prepare(ws, q)?;
+        let terms = Terms {
+            qdot: Some(qdot),
+            qddot: None,
+            gravity: true,
+        };
+        self.newton_euler(ws, &terms, qddot);
+        for (a, t) in qddot.iter_mut().zip(tau) {
+            *a = t - *a;
+        }
+        let mut m = std::mem::take(&mut ws.mass);
+        self.composite(ws, &mut m);
+        let solved = cholesky_solve(&mut m, qddot);
+        ws.mass = m;
+        solved.map_err(|row| {
+            FieldError::new(
+                "inertials",
+                format!(
+                    "the mass matrix is singular at this q (joint {} moves no mass or inertia about its axis)",
+                    row + 1
+                ),
+            )
+        })
+    }
+
+    /// The potential energy of gravity, `−Σ m_k gᵀ c_k` (J; zero with
+    /// every centre of mass at the world origin).
+    ///
+    /// # Errors
+    /// An invalid `q`.
+    pub fn potential_energy(&self, ws: &mut Workspace, q: &[f64]) -> Result<f64, FieldError> {
+        self.robot.forward_into(q, &mut ws.frames)?;
+        Ok(self
+            .bodies
+            .iter()
+            .zip(&ws.frames.transforms[1..])
+            .map(|(b, t)| -b.mass * self.gravity.dot(t.transform_point3(b.com)))
+            .sum())
+    }
+
+    /// The composite-rigid-body algorithm over the prepared workspace
+    /// (turns each row's inertia into its subtree's) into `m`.
+    fn composite(&self, ws: &mut Workspace, m: &mut [f64]) {
+        let n = self.dof();
         // Rows on different branches do not couple: their entries stay 0.
         m.fill(0.0);
         for k in (0..n).rev() {
@@ -203,7 +273,6 @@ impl Dynamics {
                 j = self.robot.joints[j - 1].parent;
             }
         }
-        Ok(())
     }
 
     /// The kinetic energy `½ q̇ᵀ M(q) q̇` (J), from the bodies' velocities.
@@ -294,3 +363,40 @@ impl Dynamics {
         }
     }
 }
+
+/// Solves `m x = b` in place (`b` becomes `x`) for a symmetric positive
+/// definite `m` (row-major, `b.len()²` entries), which is overwritten by
+/// its Cholesky factor (lower triangle).
+///
+/// # Errors
+/// The first row whose pivot is not positive (relative to the largest
+/// diagonal entry): `m` is singular there.
+fn cholesky_solve(m: &mut [f64], b: &mut [f64]) -> Result<(), usize> {
+    let n = b.len();
+    let scale = (0..n).map(|i| m[i * n + i].abs()).fold(0.0, f64::max);
+    for j in 0..n {
+        let pivot = m[j * n + j] - (0..j).map(|k| m[j * n + k] * m[j * n + k]).sum::<f64>();
+        if pivot.is_nan() || pivot <= PIVOT_TOLERANCE * scale {
+            return Err(j);
+        }
+        let d = pivot.sqrt();
+        m[j * n + j] = d;
+        for i in j + 1..n {
+            let s = m[i * n + j] - (0..j).map(|k| m[i * n + k] * m[j * n + k]).sum::<f64>();
+            m[i * n + j] = s / d;
+        }
+    }
+    for i in 0..n {
+        let s = b[i] - (0..i).map(|k| m[i * n + k] * b[k]).sum::<f64>();
+        b[i] = s / m[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let s = b[i] - (i + 1..n).map(|k| m[k * n + i] * b[k]).sum::<f64>();
+        b[i] = s / m[i * n + i];
+    }
+    Ok(())
+}
+
+/// Smallest Cholesky pivot accepted, relative to the largest diagonal
+/// entry of the mass matrix.
+const PIVOT_TOLERANCE: f64 = 1e-14;

@@ -36,9 +36,33 @@ pub use algorithms::Workspace;
 pub use factor::MassFactor;
 
 use glam::DVec3;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{FieldError, finite};
 use crate::kinematics::Robot;
+
+/// What a caller may set about a computation (the JS `options` of
+/// `inverseDynamics`): the gravity vector.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+pub struct DynamicsOptions {
+    /// Gravity (m/s², world frame); default [`DEFAULT_GRAVITY`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<[f64; 3]>,
+}
+
+impl DynamicsOptions {
+    /// `dynamics` under these options.
+    ///
+    /// # Errors
+    /// `gravity[k]: not a finite number`.
+    pub fn apply(&self, dynamics: Dynamics) -> Result<Dynamics, FieldError> {
+        match self.gravity {
+            Some(g) => dynamics.with_gravity(DVec3::from_array(g)),
+            None => Ok(dynamics),
+        }
+    }
+}
 
 /// Standard gravity along −z of the world frame (m/s²).
 pub const DEFAULT_GRAVITY: DVec3 = DVec3::new(0.0, 0.0, -9.81);

@@ -30,6 +30,7 @@ use wasm_bindgen::prelude::*;
 
 mod boundary;
 mod convert;
+mod dynamics;
 mod kinematics;
 mod messages;
 mod study;
