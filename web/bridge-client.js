@@ -1,16 +1,17 @@
 // The playground's end of the sensor bridge (scripts/bridge.mjs): a
 // WebSocket to a bridge on this machine, opened only when the person opts
-// in, only to localhost (127.0.0.1, ::1 or `localhost`). Each message is
+// in, only to this machine (127.0.0.1 or `localhost`: the bridge listens on
+// 127.0.0.1). Each message is
 // one keypoint frame in the world frame (web/keypoints.js `checkFrame`);
 // anything else is dropped with a notice. Frames go to the `HumanFeed`,
 // which keeps only the latest until the next drawn frame.
 //
 // Owns: the socket, the counts of frames and dropped messages.
-// Interface: `offer(frame)` (to the feed), `notice(text)` (the panel's
+// Interface: `offer(frame)` (to the feed), `notice(text, problem)` (the panel's
 // camera line), `closed(reason)`.
 import { checkFrame } from './keypoints.js';
 
-const LOCAL = new Set(['127.0.0.1', 'localhost', '[::1]']);
+const LOCAL = new Set(['127.0.0.1', 'localhost']);
 
 /** `text` as a bridge address on this machine, or an Error naming why not. */
 export function bridgeUrl(text) {
@@ -41,7 +42,7 @@ export class BridgeClient {
     const socket = new WebSocket(url);
     this.socket = socket;
     socket.onopen = () => this.host.notice(`Bridge connected (${url}); waiting for frames.`);
-    socket.onerror = () => this.host.notice(`No bridge answered at ${url} (start it with: node scripts/bridge.mjs).`);
+    socket.onerror = () => this.host.notice(`No bridge answered at ${url} (start it with: node scripts/bridge.mjs).`, true);
     socket.onclose = () => {
       if (this.socket === socket) {
         this.socket = null;
@@ -60,7 +61,7 @@ export class BridgeClient {
     } catch (err) {
       this.dropped += 1;
       this.lastDrop = err instanceof SyntaxError ? 'not JSON' : err.message;
-      this.host.notice(`Bridge: a message that is not a frame was dropped (${this.lastDrop}); ${this.dropped} so far.`);
+      this.host.notice(`Bridge: a message that is not a frame was dropped (${this.lastDrop}); ${this.dropped} so far.`, true);
       return;
     }
     this.frames += 1;

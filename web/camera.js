@@ -30,7 +30,7 @@ export class LiveInput {
   constructor(host) {
     this.host = host;
     this.feed = new HumanFeed({ sim: host.sim, messages: host.messages });
-    this.bridge = new BridgeClient({ offer: (f) => this.feed.offer(f), notice: (t) => this.notice(t), closed: (t) => this.bridgeClosed(t) });
+    this.bridge = new BridgeClient({ offer: (f) => this.feed.offer(f), notice: (t, p) => this.notice(t, p), closed: (t) => this.bridgeClosed(t) });
     this.estimator = null;
     this.stream = null;
     this.on = false;
@@ -51,7 +51,7 @@ export class LiveInput {
     el.record = h('button', { type: 'button', id: 'record', 'aria-pressed': 'false', onclick: () => this.toggleRecord(), title: 'keep the frames given to the person as a keypoint track' }, 'Record');
     el.bridgeOn = h('input', { type: 'checkbox', id: 'bridge-on', onchange: () => this.toggleBridge() });
     el.bridgeUrl = h('input', { type: 'text', id: 'bridge-url', value: 'ws://127.0.0.1:8765/', size: 18, 'aria-label': 'bridge address (this machine only)' });
-    el.message = h('div', { class: 'message', id: 'camera-message', role: 'status' });
+    el.message = h('div', { class: 'hint', id: 'camera-message', role: 'status' });
     return [
       h('h3', {}, 'Live person'),
       h('div', { class: 'row' }, el.camera, h('label', {}, 'height (m) ', el.height), el.record),
@@ -61,9 +61,14 @@ export class LiveInput {
     ];
   }
 
-  notice(text) {
-    if (this.el.message) this.el.message.textContent = text;
-    else this.host.messages.status(text);
+  /** A line in the section (`problem`: shown as a failure). */
+  notice(text, problem = false) {
+    if (!this.el.message) {
+      this.host.messages.status(text);
+      return;
+    }
+    this.el.message.textContent = text;
+    this.el.message.className = problem ? 'message' : 'hint';
   }
 
   /** Switches the camera on: the stream first (its refusal is the common failure), then the estimator. */
@@ -141,7 +146,7 @@ export class LiveInput {
     this.thumb.hidden = true;
     this.scale = null;
     this.setState(problem ? 'failed' : 'off');
-    this.notice(problem ?? 'Camera off.');
+    this.notice(problem ?? 'Camera off.', Boolean(problem));
   }
 
   setState(state) {
@@ -175,7 +180,7 @@ export class LiveInput {
       this.bridge.connect(this.el.bridgeUrl.value);
     } catch (err) {
       this.el.bridgeOn.checked = false;
-      this.notice(errorText(err));
+      this.notice(errorText(err), true);
     }
   }
 
