@@ -9,7 +9,8 @@
 // Owns: the panel's section, the thumbnail, the camera's stream and video,
 // the estimator, the bridge client, the feed. Interface: `sim`,
 // `messages`, `estimator` (the base URL of the estimator's files; no
-// camera without it), `speed()`, `changed()`.
+// camera without it), `speed()`, `changed()`, `selected()` (the obstacle
+// selected: a human there is the one driven).
 import { errorText, h } from './dom.js';
 import { HumanFeed } from './human-feed.js';
 import { BridgeClient } from './bridge-client.js';
@@ -132,6 +133,9 @@ export class LiveInput {
   apply() {
     const frame = this.feed.pending;
     if (!frame) return;
+    // The selected person is the one driven (else the one driven so far, else the first).
+    const selected = this.host.selected?.();
+    if (selected && selected !== this.feed.id && this.host.sim.shapeOf(selected)?.type === 'human') this.feed.follow(selected);
     const place = frame.source === 'camera' ? (points, anchor) => placeInWorld(points, anchor) : (points) => points;
     if (this.feed.apply(place, this.host.speed())) this.host.changed();
   }

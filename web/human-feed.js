@@ -65,14 +65,14 @@ export class HumanFeed {
     return (1000 * (a.length - 1)) / (a[a.length - 1] - a[0]);
   }
 
-  /** The human obstacle to feed: the one followed, else the first human of the scene. */
-  target() {
-    const { sim } = this.host;
-    const humans = (sim.world.state(sim.world.eventCount).obstacles ?? []).filter((o) => o.shape?.type === 'human');
-    if (this.id && humans.some((o) => o.id === this.id)) return this.id;
+  /** The human obstacle to feed in `state`: the one followed, else the first human of the scene. */
+  target(state) {
+    const humans = (state.obstacles ?? []).filter((o) => o.shape?.type === 'human');
+    const followed = humans.find((o) => o.id === this.id);
+    if (followed) return followed;
     this.placed = null;
     this.id = humans[0]?.id ?? null;
-    return this.id;
+    return humans[0] ?? null;
   }
 
   /**
@@ -86,13 +86,15 @@ export class HumanFeed {
     if (!frame) return false;
     this.pending = null;
     const { sim, messages } = this.host;
-    const id = this.target();
-    if (!id) {
+    // One read of the world's state per frame given (events not copied).
+    const state = sim.world.state(sim.world.eventCount);
+    const person = this.target(state);
+    if (!person) {
       messages.status('No person in the scene to move: add a human (palette) for the frames to drive.');
       return false;
     }
-    const shape = sim.shapeOf(id);
-    const here = sim.wasm.referencePoint(shape);
+    const id = person.id;
+    const here = sim.wasm.referencePoint(person.shape);
     // The person was dragged since the last frame: later frames follow.
     if (this.placed) for (let i = 0; i < 3; i++) this.offset[i] += here[i] - this.placed[i];
     else this.offset = [0, 0, 0];
@@ -102,11 +104,12 @@ export class HumanFeed {
     const now = performance.now();
     // The frame's time on the world's clock: now less its age, after the
     // last one (by a microsecond at least: a track's times increase).
-    const worldT = sim.world.state(sim.world.eventCount).t;
+    const worldT = state.t;
     const t = Math.max(this.lastT + 1e-6, worldT - (speed * (now - frame.capturedAt)) / 1000);
     const out = { t, layout: frame.layout, keypoints, ...(frame.confidence ? { confidence: frame.confidence } : {}) };
+    let shape;
     try {
-      pushFrame(sim, id, out);
+      shape = pushFrame(sim, id, out);
     } catch (err) {
       messages.status(`A keypoint frame was refused: ${errorText(err)}`);
       return false;
@@ -114,7 +117,7 @@ export class HumanFeed {
     this.lastT = t;
     this.latencyMs = now - frame.capturedAt;
     this.given += 1;
-    this.placed = sim.wasm.referencePoint(sim.shapeOf(id));
+    this.placed = sim.wasm.referencePoint(shape ?? sim.shapeOf(id));
     if (this.recording) this.recorder.add(out);
     sim.edited = true;
     return true;
@@ -140,15 +143,17 @@ export class HumanFeed {
 
 /**
  * Gives `frame` to the world's person `id`: `pushHumanFrame` where the
- * library has it, else the frame's pose fitted as a one-frame track.
+ * library has it (returns null: the world poses the person), else the
+ * frame's pose fitted as a one-frame track (returns the shape set).
  */
 export function pushFrame(sim, id, frame) {
   const world = sim.world;
   if (typeof world.pushHumanFrame === 'function') {
     world.pushHumanFrame(id, frame);
-    return;
+    return null;
   }
   const track = { layout: frame.layout, frames: [{ t: 0, keypoints: frame.keypoints }] };
   const { shape } = sim.wasm.importTrack(JSON.stringify(track), {});
   world.setObstacleShape(id, shape);
+  return shape;
 }

@@ -96,7 +96,7 @@ export class Playground {
       this.fit();
     } });
     this.presetMeshes = new PresetMeshes({ base: this.options.presetMeshes, sim, viewer, messages });
-    this.live = new LiveInput({ sim, messages, estimator: this.options.estimator, speed: () => this.speed, changed });
+    this.live = new LiveInput({ sim, messages, estimator: this.options.estimator, speed: () => this.speed, changed, selected: () => this.edits.selected });
   }
 
   // ---- DOM ----
