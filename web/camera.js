@@ -98,11 +98,21 @@ export class LiveInput {
     this.run();
   }
 
-  /** Estimates frame after frame while the camera is on (one at a time: never a queue). */
+  /**
+   * Estimates frame after frame while the camera is on, one at a time
+   * (never a queue): the next estimate starts as soon as the last one is
+   * back if the camera has shown a new frame meanwhile, else at its next
+   * frame. The frames' capture times come from a watch of the video.
+   */
   async run() {
     const estimator = this.estimator;
+    const frames = watchFrames(this.video, () => this.on && this.estimator === estimator);
+    this.frameWatch = frames;
+    let done = -1;
     while (this.on && this.estimator === estimator) {
-      const capturedAt = await nextFrame(this.video);
+      if (frames.count === done) await frames.next();
+      done = frames.count;
+      const capturedAt = frames.at;
       let pose;
       try {
         pose = await estimator.estimate(this.video);
@@ -142,6 +152,8 @@ export class LiveInput {
 
   stop(problem) {
     this.on = false;
+    // A loop waiting for a frame that will not come ends.
+    for (const resolve of this.frameWatch?.waiting.splice(0) ?? []) resolve();
     this.estimator?.stop();
     this.estimator = null;
     for (const track of this.stream?.getTracks() ?? []) track.stop();
@@ -233,14 +245,32 @@ export class LiveInput {
   }
 }
 
-/** Resolves with the page's time (ms) when `video` shows its next frame. */
-function nextFrame(video) {
-  return new Promise((resolve) => {
-    // The camera's own capture time where the browser gives it.
-    const at = (meta) => (Number.isFinite(meta?.captureTime) && meta.captureTime <= performance.now() ? meta.captureTime : performance.now());
-    if (typeof video.requestVideoFrameCallback === 'function') video.requestVideoFrameCallback((_, meta) => resolve(at(meta)));
-    else requestAnimationFrame(() => resolve(performance.now()));
-  });
+/**
+ * Watches `video`'s frames while `alive()`: `count` of frames shown, `at`
+ * the page's time (ms) the latest was captured (the camera's own capture
+ * time where the browser gives it, else when it was shown), `next()`
+ * resolves at the next frame.
+ */
+function watchFrames(video, alive) {
+  const w = { count: 0, at: performance.now(), waiting: [] };
+  w.next = () => new Promise((resolve) => w.waiting.push(resolve));
+  const seen = (meta) => {
+    const now = performance.now();
+    w.at = Number.isFinite(meta?.captureTime) && meta.captureTime <= now ? meta.captureTime : now;
+    w.count += 1;
+    for (const resolve of w.waiting.splice(0)) resolve();
+  };
+  const rvfc = typeof video.requestVideoFrameCallback === 'function';
+  const watch = () => {
+    if (!alive()) {
+      for (const resolve of w.waiting.splice(0)) resolve();
+      return;
+    }
+    if (rvfc) video.requestVideoFrameCallback((_, meta) => { seen(meta); watch(); });
+    else requestAnimationFrame(() => { seen(null); watch(); });
+  };
+  watch();
+  return w;
 }
 
 function download(text, name) {
