@@ -5,7 +5,9 @@
 // person follows the keypoints (the raised left hand up, the right one
 // down); the arm keeps clear of the person; the HUD shows the latency and
 // the estimator's rate. With the camera denied, the message says so and
-// the scene keeps running. Every wait is for a state of the page.
+// the scene keeps running. The sensor bridge: refused off this machine,
+// opted in on it, frames drive the person, a message that is not a frame is
+// dropped with a notice. Every wait is for a state of the page.
 // Screenshots at 1280×800 and 390×844 go to tests/artifacts/: look at them.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -13,6 +15,7 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { serve } from '../../scripts/serve.mjs';
 import { launch, collectErrors, artifacts, repo } from './chromium.mjs';
+import { startBridge } from '../../scripts/bridge.mjs';
 
 const CLIP = path.join(repo, 'tests', 'data', 'camera', 'kinect-wave-still.mjpeg');
 const FAKE = ['--use-fake-device-for-media-stream', `--use-file-for-fake-video-capture=${CLIP}`];
@@ -139,6 +142,57 @@ test('with the camera denied, the message says so and the scene keeps running', 
     assert.deepEqual(errors, []);
   } finally {
     await browser.close();
+  }
+});
+
+/** A person standing at (0.55, 0.42) facing the robot, the left arm held out towards it (COCO-17, metres, world frame). */
+function person(t, reach) {
+  const p = [[0.55, 0.42, 1.62], [0.53, 0.40, 1.66], [0.53, 0.44, 1.66], [0.55, 0.36, 1.63], [0.55, 0.48, 1.63],
+    [0.55, 0.24, 1.42], [0.55, 0.60, 1.42], [0.55 - reach / 2, 0.24, 1.30], [0.55, 0.60, 1.12], [0.55 - reach, 0.24, 1.25], [0.55, 0.60, 0.87],
+    [0.55, 0.33, 0.90], [0.55, 0.51, 0.90], [0.55, 0.33, 0.48], [0.55, 0.51, 0.48], [0.55, 0.33, 0.07], [0.55, 0.51, 0.07]];
+  return { t, layout: 'coco17', keypoints: p };
+}
+
+test('the sensor bridge: only on this machine, only when ticked; frames drive the person, a non-frame is dropped with a notice', async () => {
+  const bridge = await startBridge({ port: 0, notice: () => {} });
+  const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 } });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await open(page);
+    assert.equal(bridge.players, 0, 'no connection before the box is ticked');
+    const message = () => page.evaluate(() => window.playground.app.root.querySelector('#camera-message').textContent);
+    await page.fill('#bridge-url', 'ws://192.168.1.20:8765/');
+    // Refused: the box unticks itself.
+    await page.click('#bridge-on');
+    assert.match(await message(), /only a bridge on this machine/);
+    assert.equal(await page.isChecked('#bridge-on'), false);
+    await page.fill('#bridge-url', bridge.url);
+    await page.check('#bridge-on');
+    await page.waitForFunction(() => /Bridge connected/.test(window.playground.app.root.querySelector('#camera-message').textContent));
+    bridge.line(JSON.stringify(person(1, 0.3)));
+    await page.waitForFunction(() => window.playground.app.live.feed.given >= 1);
+    // The person's left hand is held out towards the robot as the frame holds the
+    // left wrist, 0.3 m in front of the body (the fit of one frame keeps the
+    // model's proportions: within 0.25 m of the wrist sent, not closer).
+    const hand = await page.evaluate(() => window.playground.app.world.state().obstacles.find((o) => o.id === 'person').parts[6]);
+    const ends = hand.type === 'sphere' ? [hand.center] : [hand.a, hand.b];
+    const near = Math.min(...ends.map((e) => Math.hypot(e[0] - 0.25, e[1] - 0.24, e[2] - 1.25)));
+    assert.ok(near < 0.25 && ends.every((e) => e[0] < 0.4), `the left hand at ${JSON.stringify(ends)} is held out by the wrist sent (${near.toFixed(3)} m)`);
+    await page.waitForFunction(() => /bridge: \d+\.\d Hz  latency \d+ ms/.test(window.playground.app.hud.textContent), null, { timeout: 60_000 });
+    bridge.line(JSON.stringify(person(2, 0.1)).slice(0, 40));
+    bridge.line('{"t": 3, "layout": "coco17", "keypoints": []}');
+    await page.waitForFunction(() => window.playground.app.live.feed.given >= 1);
+    assert.equal(bridge.stats.dropped, 2, 'the bridge drops what is not a frame');
+    // A message that reaches the page and is not a frame: dropped there, with a notice.
+    await page.evaluate(() => window.playground.app.live.bridge.message('{"t": "soon"}'));
+    assert.match(await message(), /a message that is not a frame was dropped \(t: not a finite number\)/);
+    await page.uncheck('#bridge-on');
+    await page.waitForFunction(() => !window.playground.app.live.bridge.open);
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+    await bridge.close();
   }
 });
 
