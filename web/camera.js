@@ -99,31 +99,43 @@ export class LiveInput {
   }
 
   /**
-   * Estimates frame after frame while the camera is on, one at a time
-   * (never a queue): the next estimate starts as soon as the last one is
-   * back if the camera has shown a new frame meanwhile, else at its next
-   * frame. The frames' capture times come from a watch of the video.
+   * Estimates frame after frame while the camera is on. At most two
+   * frames are with the estimator (one running, the next waiting in its
+   * worker, so that it never idles while this thread draws): never a
+   * queue. A frame is taken only when the camera has shown a new one; the
+   * frames' capture times come from a watch of the video.
    */
   async run() {
     const estimator = this.estimator;
-    const frames = watchFrames(this.video, () => this.on && this.estimator === estimator);
+    const live = () => this.on && this.estimator === estimator;
+    const frames = watchFrames(this.video, live);
     this.frameWatch = frames;
+    const inflight = [];
     let done = -1;
-    while (this.on && this.estimator === estimator) {
-      if (frames.count === done) await frames.next();
-      done = frames.count;
-      const capturedAt = frames.at;
-      let pose;
+    while (live()) {
+      while (inflight.length < 2 && frames.count !== done) {
+        done = frames.count;
+        const capturedAt = frames.at;
+        const answer = estimator.estimate(this.video).then((pose) => ({ pose, capturedAt }));
+        answer.catch(() => {});
+        inflight.push(answer);
+      }
+      if (inflight.length === 0) {
+        await frames.next();
+        continue;
+      }
+      let result;
       try {
-        pose = await estimator.estimate(this.video);
+        result = await inflight.shift();
       } catch (err) {
-        if (this.on && this.estimator === estimator) this.stop(`The pose estimator stopped: ${errorText(err)}`);
+        if (live()) this.stop(`The pose estimator stopped: ${errorText(err)}`);
         return;
       }
-      this.poseMs = pose.ms;
-      this.lastPose = pose;
-      this.drawThumb(pose);
-      this.offerPose(pose, capturedAt);
+      if (!live()) return;
+      this.poseMs = result.pose.ms;
+      this.lastPose = result.pose;
+      this.drawThumb(result.pose);
+      this.offerPose(result.pose, result.capturedAt);
     }
   }
 
