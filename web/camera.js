@@ -84,11 +84,16 @@ export class LiveInput {
       this.stream = await navigator.mediaDevices.getUserMedia({ video: { width: { ideal: 640 }, height: { ideal: 480 } }, audio: false });
       this.video.srcObject = this.stream;
       await this.video.play();
+    } catch (err) {
+      this.stop(cameraProblem(err));
+      return;
+    }
+    try {
       this.notice('Loading the pose estimator (about 6 MB, once)…');
       const { PoseEstimator } = await import('./pose.js');
       this.estimator = await PoseEstimator.start(this.host.estimator);
     } catch (err) {
-      this.stop(cameraProblem(err));
+      this.stop(`The pose estimator could not start (${errorText(err)}); the playground keeps running without the camera.`);
       return;
     }
     if (!this.on) return;

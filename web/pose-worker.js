@@ -20,6 +20,11 @@ async function init(base) {
   tf.wasm.setWasmPaths(base);
   if (!(await tf.setBackend('wasm'))) throw new Error('TensorFlow.js could not start its wasm backend');
   await tf.ready();
+  // TF.js reads whatever body a failed request returns: ask first, to say which file is missing.
+  for (const name of ['movenet-lightning.json', 'movenet-lightning.bin']) {
+    const answer = await fetch(`${base}${name}`, { method: 'HEAD' });
+    if (!answer.ok) throw new Error(`the model's file ${name} could not be fetched (HTTP ${answer.status})`);
+  }
   model = await tf.loadGraphModel(`${base}movenet-lightning.json`);
   // One run on a blank frame: the first is the slow one.
   const warm = model.execute(tf.zeros([1, SIZE, SIZE, 3], 'int32'));

@@ -5,7 +5,8 @@
 // person follows the keypoints (the raised left hand up, the right one
 // down); the arm keeps clear of the person; the HUD shows the latency and
 // the estimator's rate. With the camera denied, the message says so and
-// the scene keeps running. The sensor bridge: refused off this machine,
+// the scene keeps running, and so with an estimator that cannot start.
+// The sensor bridge: refused off this machine,
 // opted in on it, frames drive the person, a message that is not a frame is
 // dropped with a notice. Every wait is for a state of the page.
 // Screenshots at 1280×800 and 390×844 go to tests/artifacts/: look at them.
@@ -140,6 +141,24 @@ test('with the camera denied, the message says so and the scene keeps running', 
     assert.doesNotMatch((await look(page)).hud, /camera:/);
     await page.screenshot({ path: path.join(artifacts, 'camera-denied-1280x800.png') });
     assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
+
+test('an estimator that cannot start is said, the camera is released and the scene keeps running', async () => {
+  const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 }, extraArgs: ['--use-fake-ui-for-media-stream', ...FAKE] });
+  try {
+    const page = await browser.context.newPage();
+    // The model's weights cannot be had (a broken or partial site).
+    await page.route('**/estimator/movenet-lightning.bin', (route) => route.fulfill({ status: 404, body: 'not found' }));
+    await open(page);
+    await page.click('#camera');
+    await page.waitForFunction(() => window.playground.app.live.state === 'failed', null, { timeout: 120_000 });
+    const failed = await look(page);
+    assert.match(failed.message, /^The pose estimator could not start \(the model's file movenet-lightning.bin could not be fetched \(HTTP 404\)\); the playground keeps running without the camera\.$/);
+    assert.equal(await page.evaluate(() => window.playground.app.live.stream), null, 'the camera is released');
+    await page.waitForFunction((t) => window.playground.app.world.state().t > t + 0.5, failed.t, { timeout: 60_000 });
   } finally {
     await browser.close();
   }

@@ -9,6 +9,8 @@ import assert from 'node:assert/strict';
 import { createRequire } from 'node:module';
 import { LAYOUTS, PROPORTIONS, TrackRecorder, checkFrame, liftCoco17, metresPerPixel, placeInWorld } from '../../web/keypoints.js';
 import { HumanFeed } from '../../web/human-feed.js';
+import { cameraProblem } from '../../web/camera.js';
+import { bridgeUrl } from '../../web/bridge-client.js';
 
 const require = createRequire(import.meta.url);
 const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
@@ -150,4 +152,20 @@ test('a recording reads back as a keypoint track with exactly the frames given',
   for (let t = 0; t < 5; t++) r.add({ t, layout: 'coco17', keypoints: [[t, 0, 0]] });
   r.add({ t: 4, layout: 'coco17', keypoints: [[9, 9, 9]] });
   assert.deepEqual(r.frames.map((f) => f.t), [2, 3, 4], 'bounded, times increasing');
+});
+
+test('a camera that is denied, absent or fails is said in words; a bridge only on this machine', () => {
+  const named = (name, message = 'x') => Object.assign(new Error(message), { name });
+  assert.match(cameraProblem(named('NotAllowedError')), /^The camera was denied\..*keeps running/);
+  assert.match(cameraProblem(named('NotFoundError')), /^No camera was found/);
+  assert.match(cameraProblem(named('OverconstrainedError')), /^No camera was found/);
+  assert.match(cameraProblem(named('NotReadableError')), /in use by another program/);
+  assert.equal(cameraProblem(new Error('the model could not be loaded')), 'The camera could not start: the model could not be loaded');
+  assert.equal(bridgeUrl(' ws://127.0.0.1:8765/ '), 'ws://127.0.0.1:8765/');
+  assert.equal(bridgeUrl('ws://localhost:9000'), 'ws://localhost:9000/');
+  assert.throws(() => bridgeUrl('ws://192.168.1.2:8765/'), /^Error: bridge address: only a bridge on this machine/);
+  assert.throws(() => bridgeUrl('wss://127.0.0.1:8765/'), /^Error: bridge address: expected ws:/);
+  assert.throws(() => bridgeUrl('http://127.0.0.1:8765/'), /^Error: bridge address: expected ws:/);
+  assert.throws(() => bridgeUrl('not a url'), /^Error: bridge address: not a URL/);
+  assert.throws(() => bridgeUrl('ws://127.0.0.1.evil.example/'), /only a bridge on this machine/);
 });
