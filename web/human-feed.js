@@ -106,6 +106,12 @@ export class HumanFeed {
     // last one (by a microsecond at least: a track's times increase).
     const worldT = state.t;
     const t = Math.max(this.lastT + 1e-6, worldT - (speed * (now - frame.capturedAt)) / 1000);
+    // A world that takes frames on its clock gets none from its future
+    // (paused: the frame waits for the clock to move).
+    if (t > worldT && typeof sim.world.pushHumanFrame === 'function') {
+      this.pending ??= frame;
+      return false;
+    }
     const out = { t, layout: frame.layout, keypoints, ...(frame.confidence ? { confidence: frame.confidence } : {}) };
     let shape;
     try {
