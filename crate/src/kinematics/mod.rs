@@ -13,6 +13,12 @@
 //! rows of [`RobotSpec::joints`] come first, then those of every branch, and
 //! each row records the frame it starts from ([`Joint::parent`]).
 //!
+//! Each row may carry the inertial parameters of the body it moves
+//! ([`JointSpec::inertial`], validated by [`inertia`]; the presets' values
+//! and their sources in [`preset_inertials`]): what
+//! [`crate::dynamics::Dynamics::from_robot`] needs. This module only holds
+//! them; the recursions are in [`crate::dynamics`].
+//!
 //! A robot's DH table from its joint axes ([`dh_from_axes`]) is the
 //! kinematics of the URDF reader ([`crate::parsers::urdf`]); reading files
 //! is not done here.
