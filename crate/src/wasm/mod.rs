@@ -32,6 +32,7 @@ mod boundary;
 mod convert;
 mod kinematics;
 mod messages;
+mod stream;
 mod study;
 mod urdf;
 mod world;

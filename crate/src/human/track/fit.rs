@@ -14,10 +14,72 @@
 
 use glam::{DMat3, DVec3};
 
+use super::super::animation::Keyframe;
 use super::super::body::{proportion, rotation};
 use super::super::library::arm_angles;
 use super::super::pose::{Pose, joint};
 use super::super::segments::Dims;
+use crate::parsers::track::Layout;
+
+/// Fits frames one after another (a track's, or a sensor's as they come)
+/// onto a body of given dimensions: each frame's keyframe, its root and
+/// heading relative to the first frame's.
+#[derive(Clone, Debug)]
+pub(crate) struct Fitter {
+    dims: Dims,
+    t0: f64,
+    first: Option<Fitted>,
+    prev: Option<Fitted>,
+}
+
+impl Fitter {
+    /// A fitter for a body of `dims` whose keyframe times count from `t0`.
+    pub(crate) fn new(dims: Dims, t0: f64) -> Self {
+        Self {
+            dims,
+            t0,
+            first: None,
+            prev: None,
+        }
+    }
+
+    /// The keyframe of the frame at `t` with joints `j` (the `NEEDED`
+    /// joints), and how many of its angles were clamped into the body's
+    /// range.
+    pub(crate) fn push(&mut self, t: f64, j: &[DVec3; 14]) -> (Keyframe, usize) {
+        let f = fit(j, &self.dims, self.prev.as_ref());
+        let pose = f.pose.clamped();
+        let clamped = f
+            .pose
+            .angles
+            .iter()
+            .zip(&pose.angles)
+            .filter(|(a, b)| a != b)
+            .count();
+        let f0 = *self.first.get_or_insert(f);
+        let back = rotation(DVec3::Z, -f0.heading);
+        self.prev = Some(Fitted { pose, ..f });
+        let key = Keyframe {
+            t: t - self.t0,
+            pose,
+            shift: (back * (f.root - f0.root)).to_array(),
+            turn: f.heading - f0.heading,
+        };
+        (key, clamped)
+    }
+
+    /// The first frame's root (floor point) and heading.
+    pub(crate) fn origin(&self) -> Option<(DVec3, f64)> {
+        self.first.map(|f| (f.root, f.heading))
+    }
+}
+
+/// The fit's fourteen joints from one frame of `layout` (its keypoints in
+/// the layout's order).
+pub(crate) fn joints_of(layout: Layout, keypoints: &[DVec3]) -> [DVec3; 14] {
+    let needed = layout.needed();
+    std::array::from_fn(|s| keypoints.get(needed[s]).copied().unwrap_or_default())
+}
 
 /// What one frame gives: root (floor point), heading and pose.
 #[derive(Clone, Copy, Debug)]

@@ -38,7 +38,6 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::animation::Keyframe;
 use super::body::proportion;
 use super::segments::{Dims, Segments, measure};
 use super::spec::{AnimationSpec, HumanSpec, MAX_HEIGHT};
@@ -51,6 +50,7 @@ mod fit;
 mod synth;
 
 pub use accuracy::{JointError, body_joints};
+pub(crate) use fit::{Fitter, joints_of};
 pub use synth::{synthesize, synthesize_bvh};
 
 /// How [`import`] reads and repairs a track.
@@ -254,32 +254,18 @@ fn convert(
     let dims = Dims::new(height, Some(&segments));
     report.segments = Some(segments);
     let mut keys = Vec::with_capacity(times.len());
-    let mut prev: Option<fit::Fitted> = None;
-    let mut first: Option<fit::Fitted> = None;
+    let mut fitter = fit::Fitter::new(dims, times[0]);
     for (k, &t) in times.iter().enumerate() {
-        let f = fit::fit(&frames[k], &dims, prev.as_ref());
-        let clamped = f.pose.clamped();
-        report.clamped += f
-            .pose
-            .angles
-            .iter()
-            .zip(&clamped.angles)
-            .filter(|(a, b)| a != b)
-            .count();
-        let f0 = *first.get_or_insert(f);
-        let back = super::body::rotation(glam::DVec3::Z, -f0.heading);
-        keys.push(Keyframe {
-            t: t - times[0],
-            pose: clamped,
-            shift: (back * (f.root - f0.root)).to_array(),
-            turn: f.heading - f0.heading,
-        });
-        prev = Some(fit::Fitted { pose: clamped, ..f });
+        let (key, clamped) = fitter.push(t, &frames[k]);
+        report.clamped += clamped;
+        keys.push(key);
     }
-    let f0 = first.ok_or_else(|| FieldError::new("frames", "needs at least one frame"))?;
+    let f0 = fitter
+        .origin()
+        .ok_or_else(|| FieldError::new("frames", "needs at least one frame"))?;
     let shape = HumanSpec {
-        position: f0.root.to_array(),
-        heading: f0.heading,
+        position: f0.0.to_array(),
+        heading: f0.1,
         height,
         segments: Some(segments),
         reach: 0.0,
