@@ -2,12 +2,24 @@
 //! its README): the imported body follows the recorded wrists and ankles to
 //! 3 cm (95th percentile), with the subject's own segment lengths.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
 use skeleton_avoidance::human::track::{ImportedTrack, TrackOptions, import};
 
-const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/recordings/");
-
-fn read(name: &str) -> String {
-    std::fs::read_to_string(format!("{DIR}{name}")).unwrap()
+/// The recordings, read at compile time (the same bytes natively and in wasm).
+fn read(name: &str) -> &'static str {
+    match name {
+        "cmu-131_01-walk.bvh" => include_str!("data/recordings/cmu-131_01-walk.bvh"),
+        "kinect2-Ges01_wavehand.csv" => include_str!("data/recordings/kinect2-Ges01_wavehand.csv"),
+        "kinect2-Ges04_comehere.csv" => include_str!("data/recordings/kinect2-Ges04_comehere.csv"),
+        "kinect2-Ges05_demopoint.csv" => {
+            include_str!("data/recordings/kinect2-Ges05_demopoint.csv")
+        }
+        other => panic!("no recording {other}"),
+    }
 }
 
 /// Kinect v2 joint `JointType` index → the `kinect32` keypoint that names
@@ -79,7 +91,7 @@ fn the_cmu_walk_is_followed_to_three_centimetres_at_hands_and_feet() {
         scale: Some(0.056_444),
         ..TrackOptions::default()
     };
-    let imported = import(&read("cmu-131_01-walk.bvh"), &options).unwrap();
+    let imported = import(read("cmu-131_01-walk.bvh"), &options).unwrap();
     check("cmu-131_01", &imported, &HANDS_AND_FEET);
 }
 
@@ -97,7 +109,7 @@ fn kinect_gestures_are_followed_to_three_centimetres_at_hands_and_feet() {
             up: Some("y".into()),
             ..TrackOptions::default()
         };
-        let imported = import(&kinect2_track(&read(name)), &options).unwrap();
+        let imported = import(&kinect2_track(read(name)), &options).unwrap();
         check(name, &imported, joints);
     }
 }

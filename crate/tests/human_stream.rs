@@ -4,6 +4,11 @@
 //! dropout grows the parts' margins at ISO 13855's speeds while the arm
 //! keeps clear of the grown region.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
 use glam::DVec3;
 use serde_json::{Value, json};
 use skeleton_avoidance::human::HumanSpec;
@@ -11,8 +16,6 @@ use skeleton_avoidance::human::track::{TrackOptions, import};
 use skeleton_avoidance::parsers::track::Layout;
 use skeleton_avoidance::scenario::{Scenario, ShapeSpec};
 use skeleton_avoidance::world::{HAND_SPEED, HumanFrame, World};
-
-const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/recordings/");
 
 /// Kinect v2 `JointType` → `kinect32` name (by name; the indices differ).
 const KINECT2: [(usize, &str); 19] = [
@@ -42,7 +45,7 @@ const KINECT2: [(usize, &str); 19] = [
 /// of the arm; a joint the tracker lost holds its last position (so that
 /// the track and the stream see the same keypoints).
 fn frames() -> Vec<HumanFrame> {
-    let csv = std::fs::read_to_string(format!("{DIR}kinect2-Ges04_comehere.csv")).unwrap();
+    let csv = include_str!("data/recordings/kinect2-Ges04_comehere.csv");
     let names = Layout::Kinect32.names();
     let mut out: Vec<HumanFrame> = Vec::new();
     let mut t0 = None;

@@ -111,6 +111,10 @@ impl World {
         }
         o.reference = reference_point(&shape);
         o.parts = parts;
+        if human.is_none() {
+            // No longer a person: no stream drives it.
+            o.stream = None;
+        }
         o.human = human;
         o.spec.shape = shape.clone();
         self.model.scenario.obstacles[k].shape = shape;

@@ -124,9 +124,9 @@ const PART_JOINTS: [&[usize]; 16] = [
     &[11],
 ];
 
-/// The speed at which part `k`'s reachable region grows (m/s).
-fn speed_of(k: usize) -> f64 {
-    if PART_NAMES[k].ends_with("Hand") {
+/// The speed at which part `name`'s reachable region grows (m/s).
+fn speed_of(name: &str) -> f64 {
+    if name.ends_with("Hand") {
         HAND_SPEED
     } else {
         BODY_SPEED
@@ -290,9 +290,9 @@ impl ObstacleState {
             self.part_margins.resize(PART_NAMES.len(), base);
         }
         let mut events = Vec::new();
-        for k in 0..PART_NAMES.len() {
+        for (k, name) in PART_NAMES.iter().enumerate() {
             let age = stream.good[k].map_or(0.0, |g| (seen - g).max(0.0));
-            let grow = if age > 0.0 { speed_of(k) } else { 0.0 };
+            let grow = if age > 0.0 { speed_of(name) } else { 0.0 };
             stream.growth[k] = grow;
             stream.age[k] = age;
             if let Some(m) = self.part_margins.get_mut(k) {
@@ -310,7 +310,7 @@ impl ObstacleState {
                 stream.reported[k] = step;
                 events.push(EventKind::StaleSensing {
                     obstacle: self.spec.id.clone(),
-                    part: PART_NAMES[k].to_owned(),
+                    part: (*name).to_owned(),
                     age,
                     margin: self.part_margins.get(k).copied().unwrap_or(base),
                 });
