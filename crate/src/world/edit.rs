@@ -142,6 +142,7 @@ impl World {
         let o = &mut self.state.sensed.obstacles[k];
         let shape = super::stream::push(o, frame)?;
         self.model.scenario.obstacles[k].shape = shape;
+        self.model.scenario.obstacles[k].motion = None;
         self.state.sensed.dirty = true;
         Ok(())
     }

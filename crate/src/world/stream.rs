@@ -10,7 +10,8 @@
 //! the human's motion at `t` (the first frame places the person, as the
 //! first frame of an imported track does); the body keeps its height and
 //! takes its segment lengths from the first frame when it has none. The
-//! human is then seen as any keyframed human: at the world's time less
+//! human is then seen as any keyframed human (a scripted `motion` of the
+//! obstacle is dropped: the frames place it): at the world's time less
 //! the obstacle's sensing `latency`, between frames by the same cubics, so
 //! a motion streamed frame by frame moves the arm exactly as the same
 //! motion imported as a track (a window of the last
@@ -53,8 +54,9 @@ use crate::scenario::ShapeSpec;
 /// Most keypoints a frame may carry.
 pub const MAX_FRAME_KEYPOINTS: usize = 10_000;
 
-/// Frames kept as the human's keyframes (10 s at 30 Hz).
-pub const STREAM_WINDOW: usize = 300;
+/// Frames kept as the human's keyframes (4 s at 30 Hz: room for any
+/// latency the world models, and little to copy into each state).
+pub const STREAM_WINDOW: usize = 120;
 
 /// A keypoint is good at this confidence and above.
 pub const GOOD_CONFIDENCE: f64 = 0.5;
@@ -272,6 +274,9 @@ pub(super) fn push(o: &mut ObstacleState, frame: &HumanFrame) -> Result<ShapeSpe
     o.parts = parts;
     o.reference = crate::scenario::reference_point(&shape);
     o.spec.shape = shape.clone();
+    // The frames say where the person is: a scripted motion no longer
+    // moves it.
+    o.spec.motion = None;
     Ok(shape)
 }
 
