@@ -287,6 +287,8 @@ export interface Human {
   position: Vec3;
   heading?: number | undefined;
   height?: number | undefined;
+  /** The subject's own segment lengths (default: proportional to `height`; `importTrack` measures them). */
+  segments?: Segments | undefined;
   reach?: number | undefined;
   pose?: HumanPose | undefined;
   animation?: HumanAnimation | undefined;
@@ -517,8 +519,10 @@ export interface ObstacleUncertainty {
   switchProbability: number;
   segment?: number | undefined;
   alternative?: number | undefined;
-  /** A human with `partSigma`: each part's margin (m), by part name. */
+  /** A human with `partSigma`, or a streamed human with a stale part: each part's margin (m), by part name. */
   partMargins?: { [part: string]: number } | undefined;
+  /** A streamed human (`pushHumanFrame`): each part without a good frame, with the age of its data (s). */
+  stale?: { [part: string]: number } | undefined;
 }
 
 /** Every event: its time (s) and its kind's fields (docs/scenarios.md, Events). */
@@ -538,6 +542,8 @@ export type TraceEvent = { t: number } & (
   | { kind: 'unlock'; obstacle: string }
   /** The protective layer cannot keep a pair's approach stoppable (`distance`: m, `excess`: m/s). */
   | { kind: 'unavoidable'; obstacle: string; segment: number; distance: number; excess: number }
+  /** A streamed person's part without a good frame for `age` s (when it turns stale at 0.1 s, then at each doubling); its margin (m) has grown to `margin`. */
+  | { kind: 'staleSensing'; obstacle: string; part: string; age: number; margin: number }
   /** Times in s. */
   | { kind: 'transitionTooSlow'; obstacle: string; timeToCollision: number; remaining: number; braking: number; slowdown: number }
   /** At the start the arm overlaps something: the deepest pair (`distance` ≤ 0, m) by link name, and how many pairs overlap. */
@@ -741,11 +747,37 @@ export function translateShape<S extends Shape>(shape: S, delta: Vec3): S;
 /** The human with its `side` hand moved by `delta` (m) from rest: only that arm changes; the animation is dropped. */
 export function moveHumanHand(shape: Human, side: 'left' | 'right', delta: Vec3): Human;
 
+/** Keypoint layouts of tracks and sensor frames (BlazePose: MediaPipe's 33 landmarks). */
+export type KeypointLayout = 'coco17' | 'body25' | 'kinect32' | 'blazepose33';
+
+/** A subject's segment lengths (m), joint centre to joint centre; each within 0.7–1.4 times Drillis & Contini's value at the body's height. */
+export interface Segments {
+  upperArm: number;
+  forearm: number;
+  thigh: number;
+  shank: number;
+  shoulderWidth: number;
+  hipWidth: number;
+  /** Middle of the hip joints to the middle of the shoulder joints, standing upright. */
+  trunk: number;
+}
+
+/** One frame of a sensed person for `World.pushHumanFrame`. */
+export interface HumanFrame {
+  /** When the keypoints were seen (s, the world's clock; after the previous frame's). */
+  t: number;
+  layout: KeypointLayout;
+  /** `[x, y, z]` in metres, world frame, z up, in the layout's order (its count exactly, at most 10⁴). */
+  keypoints: Vec3[];
+  /** Per keypoint, in [0, 1]; below 0.5 the keypoint holds its last good position and the parts it places go stale. */
+  confidence?: number[] | undefined;
+}
+
 export interface TrackOptions {
   /** Default: JSON when the text starts with `{`, BVH when it starts with `HIERARCHY`, else CSV. */
   format?: 'json' | 'csv' | 'bvh';
   /** Keypoint layout of JSON and CSV (not used for BVH). */
-  layout?: 'coco17' | 'body25' | 'kinect32';
+  layout?: KeypointLayout;
   /** Metres per unit of the file (default 1; BVH 0.01, centimetres). */
   scale?: number;
   /** The file's up axis (default 'z'; BVH 'y'). */
@@ -767,6 +799,10 @@ export interface TrackReport {
   filled: number;
   /** Joint angles clamped into the body's range. */
   clamped: number;
+  /** The subject's segment lengths, measured from the recording. */
+  segments?: Segments | undefined;
+  /** Per joint (`leftWrist`, `rightAnkle`, …): distance (m) between the body's joint and the recorded one over the frames. */
+  fitError: { [joint: string]: { p95: number; max: number } };
 }
 
 /** A recorded keypoint track (JSON or CSV text) or BVH motion capture as a human that replays it; changes nothing by itself. */
@@ -813,6 +849,13 @@ export class World {
   pick(origin: Vec3, direction: Vec3): PickResult | null;
   /** The skeleton's point under a ray as `{ link, d, a }`, or null when the ray misses the arm. */
   pickSkeleton(origin: Vec3, direction: Vec3): SkeletonPickResult | null;
+  /**
+   * One frame of a sensed person into human obstacle `obstacleId`, fitted as `importTrack` fits a track; the human is
+   * then seen at the world's time less its sensing latency. A part without a good frame for `age` s grows its margin by
+   * `age × 2.0 m/s` (hands) or `1.6 m/s` (the rest). Throws naming the field (`obstacleId`, `frame.t`, `frame.layout`,
+   * `frame.keypoints[3][1]`, `frame.confidence[2]`); a refused frame changes nothing.
+   */
+  pushHumanFrame(obstacleId: string, frame: HumanFrame): void;
   reset(): void;
   free(): void;
   /** `free()`, for `using world = new World(…)`. */

@@ -40,6 +40,7 @@ const LABEL = {
   lock: 'control point locked',
   unlock: 'control point unlocked',
   unavoidable: 'collision cannot be avoided',
+  staleSensing: 'sensed person is stale',
 };
 
 /** The short name of a kind ("segment switch"); unknown kinds are spelled out from camelCase. */
@@ -64,6 +65,7 @@ export function describe(e) {
     case 'resume': return 'robot resumes';
     case 'lock': return `control point${on(e)} locked on ${seg(e.segment)} until ${num(e.until)} s`;
     case 'unlock': return `control point${on(e)} unlocked`;
+    case 'staleSensing': return `no good frame of ${e.obstacle}:${e.part} for ${num(e.age)} s: margin grown to ${num(e.margin * 1000, 0)} mm`;
     case 'unavoidable': return `collision cannot be avoided${on(e)}${e.reason ? `: ${e.reason}` : ''}`;
     default: return kindLabel(e.kind);
   }

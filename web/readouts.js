@@ -89,6 +89,16 @@ export class Readouts {
 
 const ms = (x) => `${(x * 1000).toFixed(0)} mm`;
 
+/** A streamed person whose data is stale (World.pushHumanFrame): the stale part with the largest margin,
+ * grown at a person's speed, and the age of its data; or null. */
+function staleLine(u) {
+  const stale = Object.entries(u.stale ?? {});
+  if (stale.length === 0) return null;
+  const margin = (part) => u.partMargins?.[part] ?? 0;
+  const [part, age] = stale.reduce((a, b) => (margin(b[0]) > margin(a[0]) ? b : a));
+  return `${u.obstacle}: stale sensing, ${part} ${(age * 1000).toFixed(0)} ms old, margin ${ms(margin(part))}`;
+}
+
 /**
  * The text over the view: time and state, clearance, time to collision, the
  * protective bound in force for the nearest human part, control points (with
@@ -117,6 +127,8 @@ export function hudLines(s, running, influence) {
   }
   for (const u of s.uncertainty ?? []) {
     if (u.switchProbability > 0) lines.push(`${u.obstacle}: switch p ${u.switchProbability.toFixed(2)}  σ ${ms(u.sigma)}`);
+    const stale = staleLine(u);
+    if (stale) lines.push(stale);
   }
   s.controlPoints.slice(0, 3).forEach((cp, i) => {
     let text = `cp${i + 1} link ${cp.link}  d' ${cp.d.toFixed(3)}  a' ${cp.a.toFixed(3)} m${cp.part ? `  ← ${cp.part}` : ''}`;

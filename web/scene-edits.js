@@ -95,7 +95,7 @@ export class SceneEdits {
       const text = await file.text();
       const csv = /\.csv$/i.test(file.name);
       const bvh = /\.bvh$/i.test(file.name);
-      const options = csv ? { format: 'csv', layout: /body25/i.test(file.name) ? 'body25' : /kinect/i.test(file.name) ? 'kinect32' : 'coco17' }
+      const options = csv ? { format: 'csv', layout: /body25/i.test(file.name) ? 'body25' : /kinect/i.test(file.name) ? 'kinect32' : /blazepose|mediapipe/i.test(file.name) ? 'blazepose33' : 'coco17' }
         : bvh ? { format: 'bvh' } : {};
       const { shape, report } = importTrack(text, options);
       const id = this.selected && sim.shapeOf(this.selected)?.type === 'human' ? this.selected : null;

@@ -23,7 +23,7 @@
 //! | [`dependability`] | sensing models, first-order uncertainty propagation, switch probability, chattering (stop or lock, every selection mode), time to collision, events | §IV |
 //! | [`human`] | the interacting human: an articulated body of capsules sized by anthropometric proportions, posed by joint angles, keyframes or a motion library, with every part's velocity | §II |
 //! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples, the motion audit (velocity, acceleration, jerk, torque) | — |
-//! | [`world`] | a live simulation: the control step as a pipeline of stages, torque limits held in every motion, obstacle edits, picking, `simulate` | — |
+//! | [`world`] | a live simulation: the control step as a pipeline of stages, torque limits held in every motion, obstacle edits, picking, a person streamed from a sensor (stale parts' margins grown at a person's speed), `simulate` | §IV |
 //! | [`study`] | Monte Carlo studies: many runs of a scenario with independent sensing seeds, reduced to distributions (clearance quantiles, probabilities of contact, stop, chattering), in parallel with the feature `parallel`, merged from shards | §IV |
 //! | [`linalg`] | small dense matrices, symmetric eigen-decomposition, the weighted damped least-squares inverse; depends on nothing else in the crate | §III-A |
 //! | [`math`] | transcendental functions (libm) with the same bits natively and in wasm (deterministic traces) | — |

@@ -139,6 +139,11 @@ const METHODS = [
   ['qdot', () => []],
   ['controller', () => []],
   ['clearance', (r) => [arg(r, r.pick(['o0', 'ball', 'person']))]],
+  ['pushHumanFrame', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, {
+    t: r.int(50) * 0.01,
+    layout: r.pick(['coco17', 'body25', 'blazepose33']),
+    keypoints: Array.from({ length: 17 }, (_, i) => [0.8 + 0.01 * r.int(5), 0.05 * (i % 5) - 0.1, 0.1 + 0.09 * i]),
+  })], true],
 ];
 
 /** Where a non-finite number hides in `v`, or null. */

@@ -144,4 +144,19 @@ pub enum EventKind {
         /// obstacle: `time to collision / (remaining + braking)`.
         slowdown: f64,
     },
+    /// A streamed person's part has had no good frame for `age` seconds
+    /// (raised when it turns stale, then at each doubling of the age):
+    /// its margin has grown to `margin` at a person's speed (ISO 13855),
+    /// which slows the arm and, once it reaches the safety distance, stops
+    /// it.
+    StaleSensing {
+        /// Obstacle concerned.
+        obstacle: String,
+        /// The part (`leftHand`).
+        part: String,
+        /// Time since its last good frame, as the world sees it (s).
+        age: f64,
+        /// The part's margin now (m).
+        margin: f64,
+    },
 }

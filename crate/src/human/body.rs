@@ -5,6 +5,7 @@
 use glam::{DMat3, DVec3};
 
 use super::pose::{JOINT_COUNT, Pose, joint};
+use super::segments::Dims;
 use crate::distance::{CapsuleSpec, PrimitiveSpec, SphereSpec};
 
 /// Segment lengths and heights as fractions of the body height `H`, after
@@ -207,7 +208,13 @@ fn capsule(name: &'static str, f: &Frame, a: DVec3, b: DVec3, radius: f64) -> Pa
 /// change at `rates` (rad/s).
 #[must_use]
 pub fn pose_body(height: f64, root: &Root, pose: &Pose, rates: &[f64; JOINT_COUNT]) -> Posed {
-    let h = height;
+    pose_sized(&Dims::new(height, None), root, pose, rates)
+}
+
+/// [`pose_body`] for a body of dimensions `dims` (its own segment lengths).
+#[must_use]
+pub fn pose_sized(dims: &Dims, root: &Root, pose: &Pose, rates: &[f64; JOINT_COUNT]) -> Posed {
+    let h = dims.h;
     let q = &pose.angles;
     let base = Frame {
         r: rotation(DVec3::Z, root.heading),
@@ -219,8 +226,8 @@ pub fn pose_body(height: f64, root: &Root, pose: &Pose, rates: &[f64; JOINT_COUN
     // Pelvis: fixed to the root at hip height.
     let hips = base.at(DVec3::Z * (proportion::HIP_HEIGHT * h));
     let trunk = trunk_parts(&mut parts, &hips, q, rates, h);
-    head_parts(&mut parts, &trunk, q, rates, h);
-    limb_parts(&mut parts, (&hips, &trunk), q, rates, h);
+    head_parts(&mut parts, &trunk, q, rates, dims);
+    limb_parts(&mut parts, (&hips, &trunk), q, rates, dims);
     Posed { parts }
 }
 
@@ -258,27 +265,21 @@ fn trunk_parts(
     trunk
 }
 
-/// Height of the shoulders above the trunk's frame, for a body of height `h` (m).
-fn shoulder_height(h: f64) -> f64 {
-    use build::*;
-    use proportion::*;
-    (SHOULDER_HEIGHT - HIP_HEIGHT - LUMBAR) * h
-}
-
 /// The neck (twist and flexion on the trunk) and the head.
 fn head_parts(
     parts: &mut Vec<Part>,
     trunk: &Frame,
     q: &[f64; JOINT_COUNT],
     rates: &[f64; JOINT_COUNT],
-    h: f64,
+    dims: &Dims,
 ) {
     use build::*;
     use proportion::*;
+    let h = dims.h;
     let (y, z) = (DVec3::Y, DVec3::Z);
     let n = joint::NECK_FLEXION;
     let neck = trunk
-        .at(z * shoulder_height(h))
+        .at(z * dims.shoulder_above_lumbar())
         .turn(z, q[n + 1], rates[n + 1])
         .turn(y, q[n], rates[n]);
     let neck_top = z * (NECK_LENGTH * h);
@@ -308,12 +309,11 @@ fn limb_parts(
     (hips, trunk): (&Frame, &Frame),
     q: &[f64; JOINT_COUNT],
     rates: &[f64; JOINT_COUNT],
-    h: f64,
+    dims: &Dims,
 ) {
-    use build::*;
-    use proportion::*;
     let y = DVec3::Y;
-    let shoulder_z = shoulder_height(h);
+    let shoulder_z = dims.shoulder_above_lumbar();
+    let seg = &dims.segments;
     for (side, k, names) in [
         (
             1.0,
@@ -326,14 +326,13 @@ fn limb_parts(
             ["rightUpperArm", "rightForearm", "rightHand"],
         ),
     ] {
-        let shoulder = trunk.at(DVec3::new(0.0, side * 0.5 * SHOULDER_WIDTH * h, shoulder_z));
+        let shoulder = trunk.at(DVec3::new(0.0, side * 0.5 * seg.shoulder_width, shoulder_z));
         arm(
             parts,
             shoulder,
             side,
-            &q[k..k + 4],
-            &rates[k..k + 4],
-            h,
+            (&q[k..k + 4], &rates[k..k + 4]),
+            dims,
             names,
         );
     }
@@ -345,8 +344,15 @@ fn limb_parts(
             ["rightThigh", "rightShin", "rightFoot"],
         ),
     ] {
-        let hip = hips.at(y * (side * HIP_HALF * h));
-        leg(parts, hip, side, &q[k..k + 3], &rates[k..k + 3], h, names);
+        let hip = hips.at(y * (side * 0.5 * seg.hip_width));
+        leg(
+            parts,
+            hip,
+            side,
+            (&q[k..k + 3], &rates[k..k + 3]),
+            dims,
+            names,
+        );
     }
 }
 
@@ -357,19 +363,19 @@ fn arm(
     parts: &mut Vec<Part>,
     shoulder: Frame,
     side: f64,
-    q: &[f64],
-    rate: &[f64],
-    h: f64,
+    (q, rate): (&[f64], &[f64]),
+    dims: &Dims,
     names: [&'static str; 3],
 ) {
     use build::*;
     use proportion::*;
+    let h = dims.h;
     let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
     let upper = shoulder
         .turn(-y, q[0], rate[0])
         .turn(x * side, q[1], rate[1])
         .turn(-z * side, q[2], rate[2]);
-    let elbow_at = -z * (UPPER_ARM * h);
+    let elbow_at = -z * dims.segments.upper_arm;
     parts.push(capsule(
         names[0],
         &upper,
@@ -378,7 +384,7 @@ fn arm(
         UPPER_ARM_RADIUS * h,
     ));
     let fore = upper.at(elbow_at).turn(-y, q[3], rate[3]);
-    let wrist = -z * (FOREARM * h);
+    let wrist = -z * dims.segments.forearm;
     parts.push(capsule(
         names[1],
         &fore,
@@ -397,16 +403,16 @@ fn leg(
     parts: &mut Vec<Part>,
     hip: Frame,
     side: f64,
-    q: &[f64],
-    rate: &[f64],
-    h: f64,
+    (q, rate): (&[f64], &[f64]),
+    dims: &Dims,
     names: [&'static str; 3],
 ) {
     use build::*;
     use proportion::*;
+    let h = dims.h;
     let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
     let thigh = hip.turn(-y, q[0], rate[0]).turn(x * side, q[1], rate[1]);
-    let knee_at = -z * (THIGH * h);
+    let knee_at = -z * dims.segments.thigh;
     parts.push(capsule(
         names[0],
         &thigh,
@@ -415,7 +421,7 @@ fn leg(
         THIGH_RADIUS * h,
     ));
     let shin = thigh.at(knee_at).turn(y, q[2], rate[2]);
-    let ankle = -z * (SHANK * h);
+    let ankle = -z * dims.segments.shank;
     parts.push(capsule(
         names[1],
         &shin,

@@ -35,12 +35,14 @@ mod animation;
 mod body;
 pub mod library;
 mod pose;
+mod segments;
 mod spec;
 pub mod track;
 mod vary;
 
 pub use animation::{Animation, Keyframe, MAX_KEYFRAMES, MAX_SHIFT, Sampled};
-pub use body::{PART_NAMES, Part, Posed, Root, pose_body, proportion, rotation};
+pub use body::{PART_NAMES, Part, Posed, Root, pose_body, pose_sized, proportion, rotation};
 pub use pose::{JOINT_COUNT, JOINTS, JointRange, Pose, joint, joint_index};
+pub use segments::{Dims, PLAUSIBLE, Segments, measure};
 pub use spec::{AnimationSpec, Human, HumanSpec, MAX_HEIGHT, MAX_PART_SIGMA};
 pub use vary::{HumanVariation, MAX_VARY_SPEED};

@@ -7,9 +7,10 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::animation::{Animation, Keyframe};
-use super::body::{PART_NAMES, Posed, Root, pose_body};
+use super::body::{PART_NAMES, Posed, Root, pose_sized};
 use super::library;
 use super::pose::{JOINT_COUNT, Pose, joint};
+use super::segments::{Dims, Segments};
 use crate::error::{FieldError, finite, finite3, positive};
 
 /// A person: an articulated body (pelvis, trunk, neck and head, arms with
@@ -31,6 +32,10 @@ pub struct HumanSpec {
     /// Height (m, > 0, at most 3; default 1.75); the body scales with it.
     #[serde(default = "default_height")]
     pub height: f64,
+    /// The subject's own segment lengths (default: Drillis & Contini's
+    /// proportions of `height`; an imported track measures them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub segments: Option<Segments>,
     /// Arm elevation of the rest pose when no `pose` is given: 0 hanging
     /// down, 1 straight forward (default 0.5; both shoulders flex by
     /// `reach · π/2`).
@@ -121,6 +126,12 @@ impl HumanSpec {
         })
     }
 
+    /// The height and the segment lengths the body is posed with.
+    #[must_use]
+    pub fn dims(&self) -> Dims {
+        Dims::new(self.height, self.segments.as_ref())
+    }
+
     /// The parts at rest (before any animation), as primitives.
     #[must_use]
     pub fn parts(&self) -> Vec<crate::distance::PrimitiveSpec> {
@@ -129,7 +140,7 @@ impl HumanSpec {
             heading: self.heading,
             ..Root::default()
         };
-        pose_body(self.height, &root, &self.rest_pose(), &[0.0; JOINT_COUNT])
+        pose_sized(&self.dims(), &root, &self.rest_pose(), &[0.0; JOINT_COUNT])
             .parts
             .into_iter()
             .map(|p| p.shape)
@@ -152,6 +163,10 @@ impl HumanSpec {
                 "height",
                 format!("at most {MAX_HEIGHT} m (got {})", self.height),
             ));
+        }
+        if let Some(seg) = &self.segments {
+            seg.validate(self.height)
+                .map_err(|e| e.within("segments"))?;
         }
         finite("reach", self.reach)?;
         if let Some(p) = &self.pose {
@@ -238,7 +253,7 @@ impl Human {
     #[must_use]
     pub fn posed_at(&self, t: f64, offset: DVec3, offset_velocity: DVec3) -> Posed {
         let (root, x) = self.sampled(t, offset, offset_velocity);
-        pose_body(self.spec.height, &root, &x.pose, &x.rates)
+        pose_sized(&self.spec.dims(), &root, &x.pose, &x.rates)
     }
 
     /// The root and the joint angles at time `t` (s), before any motion

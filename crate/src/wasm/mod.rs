@@ -33,6 +33,7 @@ mod convert;
 mod dynamics;
 mod kinematics;
 mod messages;
+mod stream;
 mod study;
 mod urdf;
 mod world;

@@ -179,6 +179,7 @@ const WORLD_ARGS: &[(&str, &[&str])] = &[
     ("setController", &["controller"]),
     ("pick", &["origin", "direction"]),
     ("pickSkeleton", &["origin", "direction"]),
+    ("pushHumanFrame", &["obstacleId", "frame"]),
 ];
 
 /// Guards the `World` class (see `guardClass` in `boundary.js`): called once
@@ -205,7 +206,7 @@ pub(crate) fn guard_world_class() {
 #[wasm_bindgen(js_name = World)]
 #[derive(Debug)]
 pub struct WorldHandle {
-    inner: World,
+    pub(super) inner: World,
 }
 
 impl WorldHandle {

@@ -111,9 +111,38 @@ impl World {
         }
         o.reference = reference_point(&shape);
         o.parts = parts;
+        if human.is_none() {
+            // No longer a person: no stream drives it.
+            o.stream = None;
+        }
         o.human = human;
         o.spec.shape = shape.clone();
         self.model.scenario.obstacles[k].shape = shape;
+        self.state.sensed.dirty = true;
+        Ok(())
+    }
+
+    /// Takes one frame of a sensed person into human obstacle `id`
+    /// (`world/stream.rs`: the fit, the stale sensing).
+    ///
+    /// # Errors
+    /// `obstacleId: no obstacle "x"` (or not a human), `frame.t: must be
+    /// after the previous frame's …`, `frame.layout: unknown layout …`,
+    /// `frame.keypoints: expected 17 keypoints …`,
+    /// `frame.keypoints[3][1]: not a finite number`, `frame.confidence[2]:
+    /// …`; the world is unchanged.
+    pub fn push_human_frame(
+        &mut self,
+        id: &str,
+        frame: &super::HumanFrame,
+    ) -> Result<(), ScenarioError> {
+        let k = self
+            .index_of(id)
+            .map_err(|e| FieldError::new("obstacleId", e.reason))?;
+        let o = &mut self.state.sensed.obstacles[k];
+        let shape = super::stream::push(o, frame)?;
+        self.model.scenario.obstacles[k].shape = shape;
+        self.model.scenario.obstacles[k].motion = None;
         self.state.sensed.dirty = true;
         Ok(())
     }

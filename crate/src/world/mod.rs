@@ -72,9 +72,14 @@ mod run;
 mod select;
 mod sense;
 mod start;
+mod stream;
 
 pub use run::{control_step_workload, simulate};
 pub use start::import_urdf;
+pub use stream::{
+    BODY_SPEED, GOOD_CONFIDENCE, HAND_SPEED, HumanFrame, MAX_FRAME_KEYPOINTS, STALE_AFTER,
+    STREAM_WINDOW,
+};
 mod state;
 mod step;
 mod tracker;

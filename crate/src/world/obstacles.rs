@@ -102,6 +102,8 @@ pub(super) struct ObstacleState {
     /// The monitor's last switch probability of this obstacle's closest
     /// segment, with that segment and the likeliest other one.
     pub(super) switch: SwitchOdds,
+    /// A human driven by pushed frames (`stream.rs`).
+    pub(super) stream: Option<Box<super::stream::Stream>>,
 }
 
 /// The probability that the closest segment of an obstacle, as sensed,
@@ -136,6 +138,7 @@ impl ObstacleState {
             covariance: sensor.covariance_with(largest),
             part_margins: Vec::new(),
             switch: SwitchOdds::default(),
+            stream: None,
             sensor,
             spec,
         };
@@ -212,14 +215,16 @@ impl ObstacleState {
 
     /// Updates [`ObstacleState::margin`] for time `t`: with latency, the
     /// obstacle may have moved `latency × speed` since it was seen (first
-    /// order), `speed` being its fastest part's.
+    /// order), `speed` being its fastest part's as seen (at `t − latency`:
+    /// what a sensor knows).
     pub(super) fn update_margin(&mut self, t: f64, dt: f64) {
         let latency = self.sensor.latency();
         self.margin = self.sensor.margin();
         let mut lag = 0.0;
         if latency > 0.0 {
+            let seen = (t - latency).max(0.0);
             let speed = self
-                .parts_at(t, self.offset(t), self.velocity(t, dt))
+                .parts_at(seen, self.offset(seen), self.velocity(seen, dt))
                 .iter()
                 .map(|(_, m)| m.peak_speed())
                 .fold(0.0, f64::max);

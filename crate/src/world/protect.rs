@@ -54,11 +54,14 @@ fn guard_pairs(state: &State, data: &mut StepData, cfg: &ControllerConfig, pairs
                 // The part's own margin (its own σ with `partSigma`).
                 let margin =
                     state.sensed.obstacles[o].part_margin(state.sensed.part_index[id as usize]);
+                // A stale part's region grows towards the arm.
+                let growth =
+                    state.sensed.obstacles[o].margin_growth(state.sensed.part_index[id as usize]);
                 (
                     p.distance - margin,
                     Some(o),
                     None,
-                    -p.normal.dot(motion.velocity_at(p.point_other)),
+                    -p.normal.dot(motion.velocity_at(p.point_other)) + growth,
                     Some(id as usize),
                 )
             }

@@ -4,11 +4,12 @@
 //! [`super::parts::Sensed::rebuild_scene`]).
 
 use super::obstacles::DRAG_HOLD;
-use super::parts::State;
+use super::parts::{EventLog, State};
 
 /// Rebuilds the scene of the obstacles as sensed when one moves (or an
-/// edit asked for it), and updates every obstacle's margin.
-pub(super) fn sense(state: &mut State, dt: f64) {
+/// edit asked for it), and updates every obstacle's margin (a streamed
+/// human's parts grown by the age of their data, `stream.rs`).
+pub(super) fn sense(state: &mut State, log: &mut EventLog, dt: f64) {
     // A figure moved by edits counts as moving until its edit velocity
     // has expired, so that the scene (which carries each part's
     // velocity) is rebuilt once more with the figure at rest.
@@ -24,5 +25,8 @@ pub(super) fn sense(state: &mut State, dt: f64) {
     let t = state.t;
     for o in &mut state.sensed.obstacles {
         o.update_margin(t, dt);
+        for kind in o.stale_margins(t) {
+            log.push(t, kind);
+        }
     }
 }

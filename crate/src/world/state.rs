@@ -117,6 +117,10 @@ pub struct Uncertainty {
     /// σ, by part name; `radius` is their largest.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub part_margins: Option<std::collections::BTreeMap<String, f64>>,
+    /// A streamed human (`World::push_human_frame`): each part without a
+    /// good frame, with the age of its data (s), by part name.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stale: Option<std::collections::BTreeMap<String, f64>>,
 }
 
 /// The human part nearest the arm ([`WorldState::closest_human`]).
@@ -354,6 +358,7 @@ fn uncertainty_out(state: &State) -> Vec<Uncertainty> {
                     .map(|(n, m)| ((*n).to_owned(), *m))
                     .collect()
             }),
+            stale: o.stale_ages(),
         })
         .collect()
 }

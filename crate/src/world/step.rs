@@ -55,7 +55,7 @@ fn stages(
     dt: f64,
 ) -> Result<(), FieldError> {
     // 1. sense
-    sense(state, dt);
+    sense(state, log, dt);
     // 2. scene query
     let pairs = scene_query(model, state, data)?;
     if state.t == 0.0 {

@@ -33,19 +33,24 @@
 //! replayed at its joints exactly (to rounding); other bodies as closely as
 //! the skeleton allows. Timestamps are kept, shifted to start at 0.
 
+use std::collections::BTreeMap;
+
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::animation::Keyframe;
 use super::body::proportion;
+use super::segments::{Dims, Segments, measure};
 use super::spec::{AnimationSpec, HumanSpec, MAX_HEIGHT};
 use crate::error::{FieldError, finite};
 use crate::parsers::track::{self, Source};
 
+mod accuracy;
 mod filter;
 mod fit;
 mod synth;
 
+pub use accuracy::{JointError, body_joints};
+pub(crate) use fit::{Fitter, joints_of};
 pub use synth::{synthesize, synthesize_bvh};
 
 /// How [`import`] reads and repairs a track.
@@ -115,6 +120,11 @@ pub struct TrackReport {
     pub filled: usize,
     /// Joint angles clamped into the body's range.
     pub clamped: usize,
+    /// The subject's segment lengths, measured from the recording.
+    pub segments: Option<Segments>,
+    /// Per joint (`leftWrist`, `rightAnkle`, …): how far the body's joint
+    /// is from the recorded one (m; the recording as repaired).
+    pub fit_error: BTreeMap<String, JointError>,
 }
 
 /// The result of [`import`]: the human that replays the track, and what
@@ -231,40 +241,33 @@ fn convert(
         joints.push(clean);
     }
     points.clear();
-    let frame = |k: usize| -> [DVec3; 14] { std::array::from_fn(|s| joints[s][k]) };
+    let frames: Vec<[DVec3; 14]> = (0..times.len())
+        .map(|k| std::array::from_fn(|s| joints[s][k]))
+        .collect();
+    drop(joints);
     let height = match options.height {
         Some(h) => h,
-        None => estimate_height(&(0..times.len()).map(frame).collect::<Vec<_>>())?,
+        None => estimate_height(&frames)?,
     };
     report.height = height;
+    let segments = measure(&frames, height);
+    let dims = Dims::new(height, Some(&segments));
+    report.segments = Some(segments);
     let mut keys = Vec::with_capacity(times.len());
-    let mut prev: Option<fit::Fitted> = None;
-    let mut first: Option<fit::Fitted> = None;
+    let mut fitter = fit::Fitter::new(dims, times[0]);
     for (k, &t) in times.iter().enumerate() {
-        let f = fit::fit(&frame(k), height, prev.as_ref());
-        let clamped = f.pose.clamped();
-        report.clamped += f
-            .pose
-            .angles
-            .iter()
-            .zip(&clamped.angles)
-            .filter(|(a, b)| a != b)
-            .count();
-        let f0 = *first.get_or_insert(f);
-        let back = super::body::rotation(glam::DVec3::Z, -f0.heading);
-        keys.push(Keyframe {
-            t: t - times[0],
-            pose: clamped,
-            shift: (back * (f.root - f0.root)).to_array(),
-            turn: f.heading - f0.heading,
-        });
-        prev = Some(fit::Fitted { pose: clamped, ..f });
+        let (key, clamped) = fitter.push(t, &frames[k]);
+        report.clamped += clamped;
+        keys.push(key);
     }
-    let f0 = first.ok_or_else(|| FieldError::new("frames", "needs at least one frame"))?;
+    let f0 = fitter
+        .origin()
+        .ok_or_else(|| FieldError::new("frames", "needs at least one frame"))?;
     let shape = HumanSpec {
-        position: f0.root.to_array(),
-        heading: f0.heading,
+        position: f0.0.to_array(),
+        heading: f0.1,
         height,
+        segments: Some(segments),
         reach: 0.0,
         pose: None,
         part_sigma: None,
@@ -274,7 +277,8 @@ fn convert(
             ..AnimationSpec::default()
         })),
     };
-    shape.compile().map_err(|e| e.within("shape"))?;
+    let human = shape.compile().map_err(|e| e.within("shape"))?;
+    report.fit_error = accuracy::fit_error(&human, times, &frames);
     Ok(ImportedTrack { shape, report })
 }
 

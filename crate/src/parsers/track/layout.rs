@@ -1,6 +1,6 @@
-//! Keypoint layouts: COCO-17, OpenPose BODY-25 and Azure Kinect Body
-//! Tracking (32 joints), their keypoint names and where the joints the fit
-//! needs sit in each.
+//! Keypoint layouts: COCO-17, OpenPose BODY-25, Azure Kinect Body
+//! Tracking (32 joints) and MediaPipe BlazePose (33 landmarks), their
+//! keypoint names and where the joints the fit needs sit in each.
 
 use crate::error::FieldError;
 
@@ -16,7 +16,14 @@ pub enum Layout {
     /// Azure Kinect Body Tracking (`kinect32`): 32 joints from the pelvis
     /// to the hand tips.
     Kinect32,
+    /// MediaPipe BlazePose (`blazepose33`): 33 landmarks, COCO's joints
+    /// plus the eyes' corners, the mouth, and per hand pinky, index and
+    /// thumb, per foot heel and toe (`foot_index`).
+    BlazePose33,
 }
+
+/// Every layout's name, as the errors list them.
+pub const LAYOUT_NAMES: &str = "coco17, body25, kinect32 or blazepose33";
 
 const COCO17: [&str; 17] = [
     "nose",
@@ -101,6 +108,42 @@ const KINECT32: [&str; 32] = [
     "rightEar",
 ];
 
+const BLAZEPOSE33: [&str; 33] = [
+    "nose",
+    "leftEyeInner",
+    "leftEye",
+    "leftEyeOuter",
+    "rightEyeInner",
+    "rightEye",
+    "rightEyeOuter",
+    "leftEar",
+    "rightEar",
+    "mouthLeft",
+    "mouthRight",
+    "leftShoulder",
+    "rightShoulder",
+    "leftElbow",
+    "rightElbow",
+    "leftWrist",
+    "rightWrist",
+    "leftPinky",
+    "rightPinky",
+    "leftIndex",
+    "rightIndex",
+    "leftThumb",
+    "rightThumb",
+    "leftHip",
+    "rightHip",
+    "leftKnee",
+    "rightKnee",
+    "leftAnkle",
+    "rightAnkle",
+    "leftHeel",
+    "rightHeel",
+    "leftFootIndex",
+    "rightFootIndex",
+];
+
 /// The joints the fit reads, in this order ([`Layout::needed`]).
 pub const NEEDED: [&str; 14] = [
     "leftShoulder",
@@ -122,7 +165,8 @@ pub const NEEDED: [&str; 14] = [
 ];
 
 impl Layout {
-    /// The layout named `name` (`coco17`, `body25`, `kinect32`).
+    /// The layout named `name` (`coco17`, `body25`, `kinect32`,
+    /// `blazepose33`).
     ///
     /// # Errors
     /// `layout: unknown layout …`.
@@ -131,9 +175,10 @@ impl Layout {
             "coco17" => Ok(Self::Coco17),
             "body25" => Ok(Self::Body25),
             "kinect32" => Ok(Self::Kinect32),
+            "blazepose33" => Ok(Self::BlazePose33),
             other => Err(FieldError::new(
                 "layout",
-                format!("unknown layout \"{other}\" (expected coco17, body25 or kinect32)"),
+                format!("unknown layout \"{other}\" (expected {LAYOUT_NAMES})"),
             )),
         }
     }
@@ -145,6 +190,7 @@ impl Layout {
             Self::Coco17 => "coco17",
             Self::Body25 => "body25",
             Self::Kinect32 => "kinect32",
+            Self::BlazePose33 => "blazepose33",
         }
     }
 
@@ -155,6 +201,7 @@ impl Layout {
             Self::Coco17 => &COCO17,
             Self::Body25 => &BODY25,
             Self::Kinect32 => &KINECT32,
+            Self::BlazePose33 => &BLAZEPOSE33,
         }
     }
 

@@ -2,7 +2,8 @@
 //! CSV) and BVH motion capture ([`bvh`]).
 //!
 //! A track is a sequence of frames, each a timestamp and the 3-D positions
-//! of a layout's keypoints ([`Layout`]: COCO-17, BODY-25, Azure Kinect 32),
+//! of a layout's keypoints ([`Layout`]: COCO-17, BODY-25, Azure Kinect 32,
+//! BlazePose 33),
 //! in metres, world frame, z up (`scale` and `up` convert other units and
 //! axes). This module reads the text into timestamps and positions (a
 //! keypoint that is null, not finite or farther than [`MAX_COORDINATE`]
@@ -57,7 +58,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 pub use bvh::{MAX_BVH_JOINTS, MAX_BVH_VALUE, MAX_FRAME_TIME};
-pub use layout::{Layout, NEEDED};
+pub use layout::{LAYOUT_NAMES, Layout, NEEDED};
 
 use crate::error::{FieldError, finite};
 use crate::human::MAX_KEYFRAMES;
@@ -79,7 +80,7 @@ pub struct TrackFrame {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrackFile {
-    /// `coco17`, `body25` or `kinect32`.
+    /// `coco17`, `body25`, `kinect32` or `blazepose33`.
     #[serde(default)]
     pub layout: Option<String>,
     /// The frames.
@@ -237,7 +238,7 @@ fn read_json(text: &str, layout: Option<&str>, axes: Axes) -> Result<Frames, Fie
     .map_err(|e| crate::error::from_serde_path(&e.path().to_string(), &e.inner().to_string()))?;
     let name = layout
         .or(file.layout.as_deref())
-        .ok_or_else(|| FieldError::new("layout", "required (coco17, body25 or kinect32)"))?;
+        .ok_or_else(|| FieldError::new("layout", format!("required ({LAYOUT_NAMES})")))?;
     let layout = Layout::from_name(name)?;
     check_count(file.frames.len())?;
     let n = layout.names().len();
@@ -267,9 +268,8 @@ fn read_json(text: &str, layout: Option<&str>, axes: Axes) -> Result<Frames, Fie
 }
 
 fn read_csv(text: &str, layout: Option<&str>, axes: Axes) -> Result<Frames, FieldError> {
-    let name = layout.ok_or_else(|| {
-        FieldError::new("layout", "required for CSV (coco17, body25 or kinect32)")
-    })?;
+    let name = layout
+        .ok_or_else(|| FieldError::new("layout", format!("required for CSV ({LAYOUT_NAMES})")))?;
     let layout = Layout::from_name(name)?;
     let n = layout.names().len();
     let lines: Vec<(usize, &str)> = text

@@ -13,10 +13,10 @@
 //! |---|---|
 //! | shoulder | `Arm`, `UpArm`, `UpperArm`, `Humerus`, then `Shoulder` (CMU's `LeftShoulder` is the clavicle: used only when no other name matches) |
 //! | elbow | `ForeArm`, `LowArm`, `LowerArm`, `Elbow` |
-//! | wrist | `Hand`, `Wrist` |
+//! | wrist | `Wrist`, `Hand` (CMU's 3ds Max release has `LeftWrist` and, past it, the hand `lhand`) |
 //! | hip | `UpLeg`, `UpperLeg`, `Thigh`, `Femur`, `Hip` |
 //! | knee | `Leg`, `LowLeg`, `LowerLeg`, `Shin`, `Knee` |
-//! | ankle | `Foot`, `Ankle` |
+//! | ankle | `Ankle`, `Foot` (a file with both: `LeftAnkle` is the ankle) |
 //! | head | `Head` (the middle of the joint and its `End Site` when it has one: the head's centre) |
 //! | hips | `Hips`, `Hip`, `Pelvis` (no side; must exist: the root or below it) |
 
@@ -25,10 +25,10 @@ use crate::error::FieldError;
 
 const SHOULDER: &[&str] = &["Arm", "UpArm", "UpperArm", "Humerus", "Shoulder"];
 const ELBOW: &[&str] = &["ForeArm", "LowArm", "LowerArm", "Elbow"];
-const WRIST: &[&str] = &["Hand", "Wrist"];
+const WRIST: &[&str] = &["Wrist", "Hand"];
 const HIP: &[&str] = &["UpLeg", "UpperLeg", "Thigh", "Femur", "Hip"];
 const KNEE: &[&str] = &["Leg", "LowLeg", "LowerLeg", "Shin", "Knee"];
-const ANKLE: &[&str] = &["Foot", "Ankle"];
+const ANKLE: &[&str] = &["Ankle", "Foot"];
 const HIPS: &[&str] = &["Hips", "Hip", "Pelvis"];
 
 /// A name as compared: lower case, letters and digits, after the last `:`.

