@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release --example reach [-- --panda N] [--seed S] [--only pr2,panda,mbm] [--verbose]`
 //!
-//! `-- --write-pr2` rewrites the built-in PR2 set (`crate/src/reach/pr2.json`)
+//! `--pr2-capsules` runs the PR2 set with the arm as imported (three 0.05 m
+//! capsules) instead of its fitted volumes. `-- --write-pr2` rewrites the built-in PR2 set (`crate/src/reach/pr2.json`)
 //! from the URDF, the meshes and NEO's scenes file.
 
 use std::collections::BTreeMap;
@@ -199,7 +200,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
     if wanted("pr2") {
-        let problems = reach::problems("pr2", None)?;
+        let problems = if std::env::args().any(|a| a == "--pr2-capsules") {
+            // The arm as imported, the 0.05 m capsules, for comparison.
+            let urdf = std::fs::read_to_string(format!("{data}/urdf/pr2.urdf"))?;
+            let (_, scenes) = reach::pr2_builtin()?;
+            reach::pr2_problems(&reach::pr2_arm(&urdf)?, &scenes)?
+        } else {
+            reach::problems("pr2", None)?
+        };
         let runs = run_all(&problems, verbose)?;
         rows("PR2", &problems, &runs);
     }
