@@ -11,8 +11,8 @@
 //! [`PANDA_COUNT`] problems). The MotionBenchMaker set is not built in
 //! (see [`super::mbm`]): it takes the scene files as `data`.
 
-use serde::ser::{Serialize, SerializeStruct, Serializer};
 use serde::Serialize as SerializeDerive;
+use serde::ser::{Serialize, SerializeStruct, Serializer};
 
 use super::pr2::{Pr2Scene, pr2_problems};
 use super::{Problem, mbm, panda_problems};
