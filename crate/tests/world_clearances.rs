@@ -113,7 +113,7 @@ fn check(s: &Scenario, id: &str, every: usize, posed: &dyn Fn(f64) -> Vec<Round>
     let trace = simulate(s).unwrap();
     let mut w = World::new(s.clone()).unwrap();
     let steps = (s.duration / s.dt).round() as usize;
-    let sample_every = s.sample_every.max(1) as usize;
+    let sample_every = s.sample_every.max(1);
     let mut seen = Seen {
         smallest: f64::INFINITY,
         ..Seen::default()
@@ -121,7 +121,7 @@ fn check(s: &Scenario, id: &str, every: usize, posed: &dyn Fn(f64) -> Vec<Round>
     let mut samples = trace.samples.iter();
     for k in 0..=steps {
         w.step(s.dt);
-        if k % sample_every != 0 && k != steps {
+        if !k.is_multiple_of(sample_every) && k != steps {
             continue;
         }
         let sample: &Sample = samples.next().unwrap();
@@ -132,7 +132,7 @@ fn check(s: &Scenario, id: &str, every: usize, posed: &dyn Fn(f64) -> Vec<Round>
         assert_eq!(w.clearance_of(id).unwrap(), c, "t = {}", sample.t);
         assert_eq!(w.clearances(), sample.clearances, "t = {}", sample.t);
         seen.smallest = seen.smallest.min(c);
-        if (k / sample_every) % every != 0 {
+        if !(k / sample_every).is_multiple_of(every) {
             continue;
         }
         seen.checked += 1;
@@ -153,15 +153,15 @@ fn check(s: &Scenario, id: &str, every: usize, posed: &dyn Fn(f64) -> Vec<Round>
         if state.control_points.iter().any(|cp| at(&cp)) {
             seen.at_control_point += 1;
         }
-        if let Some(h) = &state.closest_human {
-            if h.part.starts_with(&format!("{id}:")) {
-                assert!(
-                    (h.distance - c).abs() < 1e-9,
-                    "t = {}: {h:?}, {c}",
-                    sample.t
-                );
-                seen.nearest_human += 1;
-            }
+        if let Some(h) = &state.closest_human
+            && h.part.starts_with(&format!("{id}:"))
+        {
+            assert!(
+                (h.distance - c).abs() < 1e-9,
+                "t = {}: {h:?}, {c}",
+                sample.t
+            );
+            seen.nearest_human += 1;
         }
     }
     assert!(samples.next().is_none());
