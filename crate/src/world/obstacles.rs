@@ -278,8 +278,7 @@ impl ObstacleState {
         }
     }
 
-    /// Its parts at their true pose at time `t`: the figure where its
-    /// motion has taken it, a human posed at `t`.
+    /// Its parts at their true pose at `t` (a human posed, moved by its motion).
     pub(super) fn posed_parts(&self, t: f64) -> Vec<Primitive> {
         self.parts_at(t, self.offset(t), DVec3::ZERO)
             .into_iter()
