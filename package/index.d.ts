@@ -490,7 +490,7 @@ export interface TraceSample {
   q: number[];
   /** Joint velocities at `t` (rad/s or m/s). */
   qdot: number[];
-  /** Clearance (m) to each obstacle at `t` by id, within reach or not; self pairs apart. */
+  /** Clearance (m) from the arm at `q` to each obstacle at its true pose at `t` (a person posed), by id, within reach or not; self pairs apart. */
   clearances: { [obstacleId: string]: number };
   minClearance: number | null;
   controlPoints: TraceControlPoint[];
@@ -831,7 +831,11 @@ export class World {
   q(): Float64Array;
   /** Joint velocities now (rad/s or m/s). */
   qdot(): Float64Array;
-  /** Clearance (m) between the arm and obstacle `id` now (negative: overlap; Infinity for a robot without segments). */
+  /**
+   * Clearance (m) between the arm and obstacle `id` where the last step measured its control points:
+   * the arm at the `q` that step acted on, the obstacle (a person posed) at that step's time
+   * (negative: overlap; Infinity for a robot without segments).
+   */
   clearance(id: string): number;
   /** The controller configuration in effect, the library's defaults filled in. */
   controller(): ControllerInEffect;

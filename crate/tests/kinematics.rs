@@ -271,6 +271,11 @@ fn skeletons_of_every_preset() {
                 let t = rng.uniform();
                 let p = DhPoint::from_skeleton(&r, &frames, &skel, s, t).unwrap();
                 p.validate(&r, &frames).unwrap();
+                // The point's velocity without the Jacobians: J_θ q̇, the same bits.
+                let qdot = random_q(&r, &mut rng);
+                let j = p.jacobians(&r, &frames);
+                let v: DVec3 = j.j_theta.iter().zip(&qdot).map(|(c, v)| *c * *v).sum();
+                assert_eq!(p.velocity(&r, &frames, &qdot), v, "{name} segment {s}");
                 let (a, b) = skel.endpoints(seg);
                 assert!(
                     close(p.position(&r, &frames), a.lerp(b, t), 1e-12),

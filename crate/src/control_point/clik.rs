@@ -206,3 +206,50 @@ pub fn solve_position(
         max_speed,
     })
 }
+
+impl DhPoint {
+    /// Velocity (m/s) of the point for joint speeds `qdot`: `J_θ q̇` with
+    /// the columns of [`DhPoint::jacobians`], summed in joint order as
+    /// `jacobians(…).j_theta` times `qdot` would be (the same bits), but
+    /// without building the Jacobians: the monitors ask it of every
+    /// control point at every step.
+    #[must_use]
+    pub fn velocity(&self, robot: &Robot, frames: &Frames, qdot: &[f64]) -> DVec3 {
+        use crate::kinematics::{Convention, JointType};
+        let p = self.position(robot, frames);
+        let own = self.link - 1;
+        let column = match (robot.convention, robot.joints[own].kind) {
+            (Convention::Standard, JointType::Revolute) => {
+                Some(frames.axis[own].cross(p - frames.axis_point[own]))
+            }
+            (_, JointType::Prismatic) => {
+                Some(frames.axis[own] * self.slide_fraction(robot, frames))
+            }
+            (Convention::Modified, JointType::Revolute) => None,
+        };
+        let before = ancestors_velocity(robot, frames, p, robot.joints[own].parent, qdot);
+        match (column, qdot.get(own)) {
+            (Some(c), Some(v)) => before + c * *v,
+            _ => before,
+        }
+    }
+}
+
+/// `Σ J_θ,i q̇_i` over the ancestors of row `k` (1-based; 0: none), from the
+/// base out. A joint that is not an ancestor has a zero column, and adding
+/// `±0` leaves a sum that is never `−0` unchanged, so the sum equals the
+/// full one bit for bit.
+fn ancestors_velocity(robot: &Robot, frames: &Frames, p: DVec3, k: usize, qdot: &[f64]) -> DVec3 {
+    use crate::kinematics::JointType;
+    if k == 0 {
+        return DVec3::ZERO;
+    }
+    let i = k - 1;
+    let before = ancestors_velocity(robot, frames, p, robot.joints[i].parent, qdot);
+    let u = frames.axis[i];
+    let column = match robot.joints[i].kind {
+        JointType::Revolute => u.cross(p - frames.axis_point[i]),
+        JointType::Prismatic => u,
+    };
+    qdot.get(i).map_or(before, |v| before + column * *v)
+}

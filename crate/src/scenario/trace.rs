@@ -41,9 +41,9 @@ pub struct Sample {
     /// Smallest clearance between the arm and any obstacle (or between
     /// non-adjacent links) within reach (m; `null` when none is).
     pub min_clearance: Option<f64>,
-    /// Clearance (m) between the arm and each obstacle at `t` (true pose),
-    /// by id, within reach or not; self pairs are not in it (negative:
-    /// overlap). "How close did the arm come to the person" is the minimum
+    /// Clearance (m) between the arm at `q` and each obstacle at its true
+    /// pose at `t` (a human posed by its animation or track then), by id,
+    /// within reach or not; self pairs are not in it (negative: overlap). "How close did the arm come to the person" is the minimum
     /// of `clearances["person"]` over the samples.
     #[serde(default)]
     pub clearances: std::collections::BTreeMap<String, f64>,

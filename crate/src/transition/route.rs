@@ -110,6 +110,18 @@ pub fn route(skeleton: &Skeleton, from: SkeletonPoint, to: SkeletonPoint) -> Opt
 /// infinite when they are not connected.
 #[must_use]
 pub fn route_length(skeleton: &Skeleton, from: SkeletonPoint, to: SkeletonPoint) -> f64 {
+    // Along one segment: the one leg [`route`] would give, without
+    // building it (the tracker asks this of every point at every step).
+    if from.segment == to.segment {
+        return match skeleton.segments.get(from.segment) {
+            Some(s) if (to.t - from.t).abs() > LEG_EPSILON => {
+                let (a, b) = skeleton.endpoints(s);
+                (to.t - from.t).abs() * (b - a).length()
+            }
+            Some(_) => 0.0,
+            None => f64::INFINITY,
+        };
+    }
     route(skeleton, from, to).map_or(f64::INFINITY, |legs| {
         legs.iter()
             .map(|l| {

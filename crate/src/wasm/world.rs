@@ -294,8 +294,10 @@ impl WorldHandle {
         self.inner.qdot().to_vec()
     }
 
-    /// Clearance (m) between the arm and obstacle `id` now (true pose;
-    /// negative: overlap; `Infinity` for a robot without segments).
+    /// Clearance (m) between the arm and obstacle `id` where the last step
+    /// measured its control points: the arm at the `q` that step acted on,
+    /// the obstacle at its true pose (a human posed) at that step's time
+    /// (negative: overlap; `Infinity` for a robot without segments).
     ///
     /// # Errors
     /// `id: no obstacle "…"` for an unknown id, or `id` not a string.

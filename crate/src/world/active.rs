@@ -47,11 +47,16 @@ pub(super) fn locate(
     })
 }
 
-/// What the active-point stage collects over the tracked points.
+/// What the active-point stage collects over the tracked points: the
+/// last step's vectors, refilled in place (the readouts' names reuse their
+/// strings), so that a step with as many points as the last allocates
+/// nothing here.
 struct Collected {
     active: Vec<ActivePoint>,
     sigma_inputs: Vec<SigmaInput>,
+    /// The readouts: `states[..next]` are this step's.
     states: Vec<ControlPointState>,
+    next: usize,
     min_ttc: f64,
 }
 
@@ -65,11 +70,14 @@ pub(super) fn active_points(
     dt: f64,
 ) -> Result<Vec<ActivePoint>, FieldError> {
     let mut out = Collected {
-        active: Vec::new(),
-        sigma_inputs: Vec::new(),
-        states: Vec::new(),
+        active: std::mem::take(&mut data.propagation.active),
+        sigma_inputs: std::mem::take(&mut data.propagation.sigma_inputs),
+        states: std::mem::take(&mut data.readout.points),
+        next: 0,
         min_ttc: f64::INFINITY,
     };
+    out.active.clear();
+    out.sigma_inputs.clear();
     let braking = braking_time(&model.robot, &state.motion, dt);
     data.slowdown.clear();
     data.slowdown.resize(state.sensed.obstacles.len(), 1.0);
@@ -79,6 +87,7 @@ pub(super) fn active_points(
             visit(model, state, data, log, (&key, p), (braking, dt), &mut out)?;
         }
     }
+    out.states.truncate(out.next);
     data.readout.points = out.states;
     data.propagation.sigma_inputs = out.sigma_inputs;
     let min_ttc = out.min_ttc;
@@ -174,7 +183,8 @@ fn visit(
         1.0
     };
     let now = Now { model, state, data };
-    let name = point_name(now, key, owner);
+    let mut name = out.recycled_name();
+    point_name(now, key, owner, &mut name);
     let at = selected_at.filter(|_| remaining > 0.0);
     let (ttc, closing, ttc_normal) =
         time_to_collision_at(now, (key, at, owner), (dh, normal, effective), prev, dt)?;
@@ -212,7 +222,7 @@ fn record(
     });
     if let Some(owner) = owner.filter(|&o| !state.sensed.obstacles[o].covariance.is_zero()) {
         out.sigma_inputs.push(SigmaInput {
-            point: out.states.len(),
+            point: out.next,
             active: dist.is_finite().then_some(out.active.len()),
             owner,
             position,
@@ -224,7 +234,7 @@ fn record(
     if dist.is_finite() {
         out.active.push(ap);
     }
-    out.states.push(ControlPointState {
+    out.put(ControlPointState {
         position: position.to_array(),
         link: dh.link,
         d: dh.d,
@@ -274,12 +284,40 @@ fn tracked_point(now: Now<'_>, key: &Key) -> Result<Option<(DhPoint, f64)>, Fiel
 }
 
 /// The obstacle id a control point reports (`pinned:<k>` for a pinned
-/// point with no obstacle in reach).
-fn point_name(now: Now<'_>, key: &Key, owner: Option<usize>) -> String {
-    match (key, owner) {
-        (Key::Pinned(k), None) => format!("pinned:{k}"),
-        (Key::Pinned(_), Some(o)) => now.state.sensed.obstacles[o].spec.id.clone(),
-        _ => super::name(now.state, now.data, key),
+/// point with no obstacle in reach; otherwise as [`super::name`]), written
+/// into `out`.
+fn point_name(now: Now<'_>, key: &Key, owner: Option<usize>, out: &mut String) {
+    use std::fmt::Write;
+    out.clear();
+    let id = |o: usize| now.state.sensed.obstacles[o].spec.id.as_str();
+    // Writing into a String cannot fail.
+    let _ = match (key, owner) {
+        (Key::Pinned(k), None) => write!(out, "pinned:{k}"),
+        (Key::Pinned(_), Some(o)) | (&Key::Obstacle(o) | &Key::Pair(o, _), _) => {
+            out.write_str(id(o))
+        }
+        (Key::SelfPair(_, other), _) => {
+            write!(out, "self:{}", now.data.skeleton.segments[*other].link)
+        }
+    };
+}
+
+impl Collected {
+    /// A string for the next readout's name: the last step's, emptied.
+    fn recycled_name(&mut self) -> String {
+        self.states
+            .get_mut(self.next)
+            .map(|s| std::mem::take(&mut s.obstacle))
+            .unwrap_or_default()
+    }
+
+    /// Stores the next readout.
+    fn put(&mut self, point: ControlPointState) {
+        match self.states.get_mut(self.next) {
+            Some(slot) => *slot = point,
+            None => self.states.push(point),
+        }
+        self.next += 1;
     }
 }
 

@@ -331,16 +331,19 @@ impl World {
         readout::qdot(self)
     }
 
-    /// [`World::clearance_of`] every obstacle now, by id (infinite ones
-    /// left out: a robot without segments).
+    /// [`World::clearance_of`] every obstacle, by id (infinite ones left
+    /// out: a robot without segments): what a trace sample carries.
     #[must_use]
     pub fn clearances(&self) -> std::collections::BTreeMap<String, f64> {
         readout::clearances(self)
     }
 
-    /// Clearance (m) between the arm's volumes and obstacle `id` at its
-    /// current (true) pose; negative by the penetration depth when they
-    /// overlap, infinite for a robot without segments.
+    /// Clearance (m) between the arm's volumes and obstacle `id`, measured
+    /// where the last step measured its control points: the skeleton at
+    /// the `q` that step acted on against the obstacle's true pose at that
+    /// step's time (a human posed by its animation or track then); `q0`
+    /// and `t = 0` before any step. Negative by the penetration depth when
+    /// they overlap, infinite for a robot without segments.
     ///
     /// # Errors
     /// `id: no obstacle "…"` for an unknown id.

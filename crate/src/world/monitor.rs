@@ -131,10 +131,7 @@ pub(super) fn closing_speed(
     normal: DVec3,
 ) -> Option<f64> {
     let qdot = &now.state.motion.qdot;
-    let velocity = |p: &DhPoint| -> DVec3 {
-        let j = p.jacobians(&now.model.robot, &now.data.frames);
-        j.j_theta.iter().zip(qdot).map(|(c, v)| *c * *v).sum()
-    };
+    let velocity = |p: &DhPoint| -> DVec3 { p.velocity(&now.model.robot, &now.data.frames, qdot) };
     let arm = normal.dot(velocity(dh));
     match (key, owner) {
         (Key::SelfPair(_, other), _) => {

@@ -283,6 +283,14 @@ impl ObstacleState {
         }
     }
 
+    /// Its parts at their true pose at `t` (a human posed, moved by its motion).
+    pub(super) fn posed_parts(&self, t: f64) -> Vec<Primitive> {
+        self.parts_at(t, self.offset(t), DVec3::ZERO)
+            .into_iter()
+            .map(|(shape, _)| shape)
+            .collect()
+    }
+
     /// The name of part `k` (`leftForearm`) of a human, `None` for a
     /// primitive.
     pub(super) fn part_name(&self, k: usize) -> Option<&'static str> {
@@ -372,7 +380,7 @@ impl Sensed {
         let mut obstacles = Vec::new();
         let mut id = 0u32;
         for o in &self.obstacles {
-            for (shape, _) in o.parts_at(t, o.offset(t), DVec3::ZERO) {
+            for shape in o.posed_parts(t) {
                 obstacles.push(Obstacle { id, shape });
                 id += 1;
             }

@@ -1,6 +1,12 @@
 //! Cheap readouts of a [`World`]: the joint velocities and the clearance to
 //! one obstacle, without building the whole [`super::WorldState`] (a page
 //! that plots one number per frame reads it here).
+//!
+//! A clearance is measured where the last step measured its control
+//! points: the skeleton at the `q` that step acted on, against every
+//! obstacle at its true pose at that step's time (a moving figure where
+//! its motion has taken it, a human posed by its keyframes, clip or
+//! recorded track). Before any step that is `q0` at `t = 0`.
 
 use super::World;
 use crate::distance::{BroadPhase, Obstacle, QueryOptions, Scene};
@@ -29,14 +35,13 @@ pub(super) fn clearances(w: &World) -> std::collections::BTreeMap<String, f64> {
 pub(super) fn clearance_of(w: &World, id: &str) -> Result<f64, ScenarioError> {
     let k = w.index_of(id)?;
     let o = &w.state.sensed.obstacles[k];
-    let off = o.offset(w.state.t);
     let scene = Scene::new(
-        o.parts
-            .iter()
+        o.posed_parts(measured_at(w))
+            .into_iter()
             .enumerate()
-            .map(|(n, p)| Obstacle {
+            .map(|(n, shape)| Obstacle {
                 id: n as u32,
-                shape: p.translated(off),
+                shape,
             })
             .collect(),
     );
@@ -52,4 +57,10 @@ pub(super) fn clearance_of(w: &World, id: &str) -> Result<f64, ScenarioError> {
         .iter()
         .map(|p| p.distance)
         .fold(f64::INFINITY, f64::min))
+}
+
+/// The time the last step acted on, that of its skeleton and control
+/// points (`0` before any step, as a new world's time is).
+fn measured_at(w: &World) -> f64 {
+    w.data.propagation.t
 }

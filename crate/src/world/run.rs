@@ -26,13 +26,13 @@ pub fn simulate(scenario: &Scenario) -> Result<Trace, ScenarioError> {
     let steps = (scenario.duration / scenario.dt).round() as u64;
     let every = scenario.sample_every.max(1) as u64;
     let mut samples = Vec::new();
-    // A sample is the state a step acts on: the clearance to each obstacle
-    // is measured before the step, the rest comes from the step.
+    // A sample is the state a step acts on: its time and joints, and the
+    // clearance to each obstacle posed at that time (read after the step,
+    // from the skeleton the step built at the sample's `q`).
     let take = |world: &mut World| {
-        let clearances = world.clearances();
         world.step(scenario.dt);
         let mut sample = world.sample();
-        sample.clearances = clearances;
+        sample.clearances = world.clearances();
         sample
     };
     for k in 0..steps {

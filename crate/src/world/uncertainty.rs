@@ -10,8 +10,6 @@
 
 use glam::DVec3;
 
-use std::collections::BTreeMap;
-
 use serde::Serialize;
 
 use super::World;
@@ -49,34 +47,52 @@ pub struct Risk {
 /// other pairs `pairs`: each other segment's own closest pair counts when
 /// its witness is farther than `jump` from `best`'s. Also returns that
 /// likeliest alternative pair.
-pub(super) fn segment_odds<'a>(
-    pairs: impl IntoIterator<Item = &'a PairDistance>,
+pub(super) fn segment_odds<'a, I>(
+    pairs: I,
     best: &PairDistance,
     jump: f64,
     covariance: &Covariance,
-) -> (SwitchOdds, Option<&'a PairDistance>) {
-    let mut others: BTreeMap<usize, &PairDistance> = BTreeMap::new();
-    for p in pairs {
-        if p.segment != best.segment && (p.point_segment - best.point_segment).length() > jump {
-            let e = others.entry(p.segment).or_insert(p);
-            if p.distance < e.distance {
-                *e = p;
-            }
-        }
-    }
+) -> (SwitchOdds, Option<&'a PairDistance>)
+where
+    I: IntoIterator<Item = &'a PairDistance>,
+    I::IntoIter: Clone,
+{
+    // Each other segment's closest pair (the first of equal ones), in the
+    // order of the segments, read off the pairs without collecting them
+    // (this runs for every obstacle at every step).
+    let pairs = pairs.into_iter();
+    let counts = |p: &PairDistance| {
+        p.segment != best.segment && (p.point_segment - best.point_segment).length() > jump
+    };
+    let closest_on = |segment: usize| {
+        pairs
+            .clone()
+            .filter(|p| p.segment == segment && counts(p))
+            .fold(None, |e: Option<&'a PairDistance>, p| match e {
+                Some(e) if p.distance < e.distance => Some(p),
+                Some(e) => Some(e),
+                None => Some(p),
+            })
+    };
+    let next_segment = |after: Option<usize>| {
+        pairs
+            .clone()
+            .filter(|p| counts(p) && after.is_none_or(|a| p.segment > a))
+            .map(|p| p.segment)
+            .min()
+    };
+    let others = std::iter::successors(next_segment(None), |&s| next_segment(Some(s)))
+        .filter_map(closest_on);
     let probability = if covariance.is_zero() {
         0.0
     } else {
         switch_probability(
             (best.distance, best.normal),
-            others.values().map(|p| (p.distance, p.normal)),
+            others.clone().map(|p| (p.distance, p.normal)),
             covariance,
         )
     };
-    let alt = others
-        .values()
-        .copied()
-        .min_by(|x, y| x.distance.total_cmp(&y.distance));
+    let alt = others.min_by(|x, y| x.distance.total_cmp(&y.distance));
     let odds = SwitchOdds {
         probability,
         segment: Some(best.segment),
