@@ -107,7 +107,7 @@ impl World {
         let o = &mut self.state.sensed.obstacles[k];
         let moved = reference_point(&shape) - o.reference;
         if moved != DVec3::ZERO && o.spec.motion.is_none() {
-            o.dragged = super::obstacles::drag_velocity(o.dragged, moved, self.state.t);
+            o.dragged = super::motion::drag_velocity(o.dragged, moved, self.state.t);
         }
         o.reference = reference_point(&shape);
         o.parts = parts;

@@ -61,6 +61,7 @@ mod dynamics;
 mod edit;
 mod limit;
 mod monitor;
+mod motion;
 mod obstacles;
 mod parts;
 mod pfl;

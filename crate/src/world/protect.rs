@@ -15,7 +15,7 @@
 use std::collections::BTreeSet;
 
 use super::StopReason;
-use super::obstacles::PartMotion;
+use super::motion::PartMotion;
 use super::parts::{EventLog, Model, State, StepData};
 use super::tracker::stop;
 use crate::avoidance::ControllerConfig;

@@ -3,7 +3,7 @@
 //! each obstacle's margin (paper §IV; the scene is built in
 //! [`super::parts::Sensed::rebuild_scene`]).
 
-use super::obstacles::DRAG_HOLD;
+use super::motion::DRAG_HOLD;
 use super::parts::{EventLog, State};
 
 /// Rebuilds the scene of the obstacles as sensed when one moves (or an
