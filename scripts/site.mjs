@@ -25,7 +25,8 @@ import { copyEstimator } from './estimator-files.mjs';
  * mesh readers came in (mesh-loader for STL, OBJ, COLLADA and gltf for
  * glTF/GLB, about 120 and 95 kB gzipped on their own), 1.61 MB with them,
  * 1.72 MB with the articulated human, its keypoint tracks and the
- * constraints avoidance. A budget against growth, not a goal: splitting
+ * constraints avoidance, 1.791 MB with the dynamics (the URDF and SRDF
+ * readers built for size to make room: README). A budget against growth, not a goal: splitting
  * the mesh readers into a module loaded with the first URDF is the way
  * back under 1.5 MB.
  */

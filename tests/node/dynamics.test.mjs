@@ -131,7 +131,7 @@ test('bad input is refused with an Error naming the field', () => {
     [() => sa.massMatrix(bad(1, [0.1, 0, 0, 0.01, 0, 0.01]), q), /^joints\[2\]\.inertial\.inertia: principal moments .* violate the triangle inequality/],
     [() => sa.massMatrix(bad(1, [0.01, 0, 0, 0.01, 0]), q), /^joints\[2\]\.inertial\.inertia: /],
     [() => sa.massMatrix({ convention: 'standard', joints: [{ a: 1, alpha: 0, d: 0, theta: 0, inertial: [1, [0, 0, 0]] }] }, [0]),
-      /^joints\[0\]\.inertial: /],
+      /^robot\.joints\[0\]\.inertial: expected an object \{ com, inertia, mass \}, got an array$/],
   ];
   for (const [call, message] of cases) {
     assert.throws(call, (e) => e.constructor === Error && message.test(e.message), String(message));
