@@ -19,7 +19,7 @@
 //! | [`skeleton`] | nodes and tapered segments built from the DH table | §II, fig. 1 |
 //! | [`control_point`] | points as DH values `(link, d', a')`, `J_θ`, `J_a`, `J_d` and their time derivatives; first- and second-order CLIK of a moving point (`clik`) | §III-A, eq. 2–4 |
 //! | [`transition`] | a control point travelling along the skeleton through the nodes, one quintic per DH value (C2) | §III-B, fig. 5 |
-//! | [`avoidance`] | control-point selection, repulsion, velocity / torque / second-order CLIK controllers with task priority and joint weights, the constraints that bring their own QP rows (`rows`: limits and tasks), the QP and its assembler, the protective layer and the jerk-limited joint limiter | §II, §III-A |
+//! | [`avoidance`] | control-point selection, repulsion, velocity / torque / second-order CLIK controllers with task priority and joint weights, the constraints that bring their own QP rows (`rows`: limits and tasks), the QP and its assembler, NEO as a baseline controller (`neo`), the protective layer and the jerk-limited joint limiter | §II, §III-A |
 //! | [`dependability`] | sensing models, first-order uncertainty propagation, switch probability, chattering (stop or lock, every selection mode), time to collision, events | §IV |
 //! | [`human`] | the interacting human: an articulated body of capsules sized by anthropometric proportions, posed by joint angles, keyframes or a motion library, with every part's velocity | §II |
 //! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples | — |

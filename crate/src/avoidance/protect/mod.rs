@@ -210,7 +210,9 @@ pub struct GuardPair {
     pub part: Option<usize>,
 }
 
-fn jacobian_at(
+/// The Jacobians of the arm's point at `fraction` along skeleton segment
+/// `segment`, into `out`.
+pub(crate) fn jacobian_at(
     robot: &Robot,
     frames: &Frames,
     skeleton: &Skeleton,
