@@ -16,8 +16,13 @@
 //                                  interleaved: bench-ab.mjs; --drag
 //                                  drags the view so every frame draws)
 //   npm run bench -- --reach      (only the reach benchmark: NEO's 198 PR2
-//                                  problems and 100 random Panda problems,
-//                                  `cargo run --release --example reach`)
+//                                  problems, 100 random Panda problems and
+//                                  MotionBenchMaker's 700, each run by the
+//                                  constraints, the repulsion, NEO as
+//                                  published and NEO through the limiter:
+//                                  `cargo run --release --example reach`;
+//                                  `--only pr2,panda,mbm` and
+//                                  `--controllers neo,...` pass through)
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -38,8 +43,9 @@ const benches = fs
 const quick = process.argv.includes('--tables');
 if (!ensureTools({ browser: true })) process.exit(1);
 if (process.argv.includes('--reach')) {
-  console.log('\n=== reach benchmark (crate/examples/reach.rs; success: within 1 cm and 2° in 10 s, within every limit, no contact while moving)');
-  process.exit(run('cargo', ['run', '--release', '-q', '-p', 'skeleton-avoidance', '--example', 'reach']));
+  console.log('\n=== reach benchmark (crate/examples/reach.rs; every controller, one evaluator: strict = within 1 cm and 2° in 10 s, within every limit, no contact beginning while moving; NEO\'s count = summed pose error < 0.25 m + rad within 25 s)');
+  const pass = ['only', 'controllers'].flatMap((name) => (option(name) ? [`--${name}`, option(name)] : []));
+  process.exit(run('cargo', ['run', '--release', '-q', '-p', 'skeleton-avoidance', '--example', 'reach', '--', ...pass]));
 }
 if (process.argv.includes('--frames')) {
   const only = option('only')?.split(',');
