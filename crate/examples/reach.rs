@@ -6,7 +6,10 @@
 //! scene and per set with both criteria ([`skeleton_avoidance::reach::report`]),
 //! timed per control step.
 //!
-//! `cargo run --release --example reach [-- --panda N] [--seed S] [--only pr2,panda,mbm] [--controllers constraints,repulsion,neo,neo+limiter] [--verbose]`
+//! `cargo run --release --example reach [-- --panda N] [--seed S] [--only pr2,panda,mbm] [--controllers constraints,repulsion,neo,neo+limiter] [--every K] [--verbose]`
+//!
+//! `--every K` runs every K-th problem of each set (a quicker look; the
+//! report's figures are for the whole sets).
 //!
 //! `-- --write-pr2` rewrites the built-in PR2 set (`crate/src/reach/pr2.json`)
 //! from the URDF, the meshes and NEO's scenes file.
@@ -202,6 +205,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .collect::<Result<_, _>>()?,
         None => Controller::ALL.to_vec(),
     };
+    let every: usize = arg("--every").map_or(Ok(1), |s| s.parse())?;
+    let thin = |p: Vec<Problem>| -> Vec<Problem> { p.into_iter().step_by(every.max(1)).collect() };
     let seed: u64 = arg("--seed").map_or(Ok(reach::PANDA_SEED), |s| s.parse())?;
     let count: usize = arg("--panda").map_or(Ok(reach::PANDA_COUNT), |s| s.parse())?;
     let data = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data");
@@ -214,11 +219,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("{}", report::header());
     if wanted("pr2") {
-        let problems = reach::problems("pr2", None)?;
+        let problems = thin(reach::problems("pr2", None)?);
         report_set("PR2", &problems, &controllers, verbose)?;
     }
     if wanted("panda") {
-        let problems = reach::panda_problems(seed, count)?;
+        let problems = thin(reach::panda_problems(seed, count)?);
         report_set(
             &format!("Panda, random (seed {seed})"),
             &problems,
@@ -227,7 +232,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )?;
     }
     if wanted("mbm") {
-        let problems = mbm(data)?;
+        let problems = thin(mbm(data)?);
         report_set("MotionBenchMaker", &problems, &controllers, verbose)?;
     }
     Ok(())
