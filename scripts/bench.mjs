@@ -15,8 +15,11 @@
 //                                  measures this build against another,
 //                                  interleaved: bench-ab.mjs; --drag
 //                                  drags the view so every frame draws)
+//   npm run bench -- --camera     (only the playground with its camera on:
+//                                  fps and the estimator's Hz; bench-camera.mjs)
 //   npm run bench -- --reach      (only the reach benchmark: NEO's 198 PR2
-//                                  problems, 100 random Panda problems and
+//                                  problems on the arm's fitted volumes,
+//                                  100 random Panda problems and
 //                                  MotionBenchMaker's 700, each run by the
 //                                  constraints, the repulsion, NEO as
 //                                  published and NEO through the limiter:
@@ -31,6 +34,7 @@ import { repo, run } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
 import { frameRows, frameTable } from './bench-frames.mjs';
+import { cameraTable } from './bench-camera.mjs';
 import { abTable } from './bench-ab.mjs';
 import { median, nativeRound as nativeRoundIn, stepAbTable, wasmControlStep, wasmMedian } from './bench-step-ab.mjs';
 
@@ -47,6 +51,7 @@ if (process.argv.includes('--reach')) {
   const pass = ['only', 'controllers'].flatMap((name) => (option(name) ? [`--${name}`, option(name)] : []));
   process.exit(run('cargo', ['run', '--release', '-q', '-p', 'skeleton-avoidance', '--example', 'reach', '--', ...pass]));
 }
+if (process.argv.includes('--camera')) process.exit((await cameraTable()) ? 0 : 1);
 if (process.argv.includes('--frames')) {
   const only = option('only')?.split(',');
   const unknown = only?.filter((name) => !frameRows(exampleNames()).some((r) => r.name === name));
@@ -159,3 +164,4 @@ table(
 }
 
 if (!(await frameTable(exampleNames()))) process.exit(1);
+if (!(await cameraTable())) process.exit(1);

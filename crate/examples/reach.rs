@@ -11,7 +11,9 @@
 //! `--every K` runs every K-th problem of each set (a quicker look; the
 //! report's figures are for the whole sets).
 //!
-//! `-- --write-pr2` rewrites the built-in PR2 set (`crate/src/reach/pr2.json`)
+//! `--pr2-capsules` runs the PR2 set with the arm as imported (three 0.05 m
+//! capsules) instead of its fitted volumes. `-- --write-pr2` rewrites the
+//! built-in PR2 set (`crate/src/reach/pr2.json`)
 //! from the URDF, the meshes and NEO's scenes file.
 
 use std::collections::BTreeMap;
@@ -219,8 +221,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("{}", report::header());
     if wanted("pr2") {
-        let problems = thin(reach::problems("pr2", None)?);
-        report_set("PR2", &problems, &controllers, verbose)?;
+        let problems = if std::env::args().any(|a| a == "--pr2-capsules") {
+            // The arm as imported, the 0.05 m capsules, for comparison.
+            let urdf = std::fs::read_to_string(format!("{data}/urdf/pr2.urdf"))?;
+            let (_, scenes) = reach::pr2_builtin()?;
+            reach::pr2_problems(&reach::pr2_arm(&urdf)?, &scenes)?
+        } else {
+            reach::problems("pr2", None)?
+        };
+        report_set("PR2", &thin(problems), &controllers, verbose)?;
     }
     if wanted("panda") {
         let problems = thin(reach::panda_problems(seed, count)?);

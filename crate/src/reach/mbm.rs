@@ -128,15 +128,14 @@ pub fn mbm_problems(json: &str, field: &str) -> Result<Vec<Problem>, FieldError>
     let mut out = Vec::new();
     for (path, file) in files {
         let file: SceneFile = serde_path_to_error::deserialize(file).map_err(|e| {
-            let at = e.path().to_string();
-            FieldError::new(
-                if at == "." {
-                    path.clone()
-                } else {
-                    format!("{path}.{at}")
-                },
-                format!("not a MotionBenchMaker scene file: {}", e.inner()),
-            )
+            let inner =
+                crate::error::from_serde_path(&e.path().to_string(), &e.inner().to_string());
+            let at = if inner.field.is_empty() {
+                path.clone()
+            } else {
+                format!("{path}.{}", inner.field)
+            };
+            FieldError::new(at, inner.reason)
         })?;
         if file.set != "mbm" {
             return Err(FieldError::new(

@@ -11,8 +11,8 @@
 //! [`PANDA_COUNT`] problems). The MotionBenchMaker set is not built in
 //! (see [`super::mbm`]): it takes the scene files as `data`.
 
+use serde::Serialize as SerializeDerive;
 use serde::ser::{Serialize, SerializeStruct, Serializer};
-use serde::{Deserialize, Serialize as SerializeDerive};
 
 use super::pr2::{Pr2Scene, pr2_problems};
 use super::{Problem, mbm, panda_problems};
@@ -30,8 +30,8 @@ pub const PANDA_COUNT: usize = 100;
 const PR2_DATA: &str = include_str!("pr2.json");
 
 /// The form of `pr2.json`.
-#[derive(SerializeDerive, Deserialize)]
-#[serde(rename_all = "camelCase", deny_unknown_fields)]
+#[derive(SerializeDerive)]
+#[serde(rename_all = "camelCase")]
 struct Pr2Data {
     about: String,
     robot: RobotSpec,
@@ -65,9 +65,16 @@ pub fn pr2_data(robot: &RobotSpec, scenes_json: &str) -> Result<String, FieldErr
 /// # Errors
 /// Only through a bug (the file is built in and tested).
 pub fn pr2_builtin() -> Result<(RobotSpec, Vec<Pr2Scene>), FieldError> {
-    let data: Pr2Data =
-        serde_json::from_str(PR2_DATA).map_err(|e| FieldError::new("pr2.json", e.to_string()))?;
-    Ok((data.robot, data.scenes))
+    // Read as a JSON value first, the robot spec through the same reader as
+    // a scenario's (one copy of the spec's reader in the wasm module, not
+    // a second one for text).
+    let bad = |e: String| FieldError::new("pr2.json", e);
+    let mut data: serde_json::Value =
+        serde_json::from_str(PR2_DATA).map_err(|e| bad(e.to_string()))?;
+    let robot = serde_path_to_error::deserialize(data["robot"].take())
+        .map_err(|e: serde_path_to_error::Error<_>| bad(e.to_string()))?;
+    let scenes = serde_json::from_value(data["scenes"].take()).map_err(|e| bad(e.to_string()))?;
+    Ok((robot, scenes))
 }
 
 /// The problems of the set `set` (`"pr2"`, `"panda"` or `"mbm"`): `data`

@@ -1,10 +1,12 @@
 //! JS binding of the reach problem sets: `reachProblems(set, data?)`.
-//! Converts only; the sets are [`crate::reach::problems`]'s.
+//! Converts only (serde's messages about the scene files in the project's
+//! words); the sets are [`crate::reach::problems`]'s.
 
 use wasm_bindgen::prelude::*;
 
 use super::boundary::{read_json, string_arg};
-use super::convert::{js_error, to_js};
+use super::convert::{js_error, plain_reason, to_js};
+use crate::error::FieldError;
 use crate::reach;
 
 /// The problems of the set `set` (`'pr2' | 'panda' | 'mbm'`) as
@@ -27,6 +29,7 @@ pub fn reach_problems(set: JsValue, data: JsValue) -> Result<JsValue, JsError> {
     } else {
         Some(read_json("data", &data)?.to_string())
     };
-    let problems = reach::problems(&set, data.as_deref()).map_err(|e| js_error(&e))?;
+    let problems = reach::problems(&set, data.as_deref())
+        .map_err(|e| js_error(&FieldError::new(e.field, plain_reason(&e.reason))))?;
     to_js(&problems)
 }
