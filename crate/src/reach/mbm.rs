@@ -6,11 +6,11 @@
 //! **Not built into the library.** The 700 problems carry their own
 //! obstacles (MotionBenchMaker moves every object per problem): 8 200
 //! objects, 2.0 MB of JSON whose numbers are full-precision random poses
-//! (about 0.5 MB gzipped, against a wasm budget with a few kB left), and no
+//! (0.39 MB gzipped, against a wasm budget with a few kB left), and no
 //! encoding keeps them exact in a few kB. So the data stays a JSON file read
-//! by the caller (`std::fs` natively, `fetch` or `fs` in JS) and handed to
-//! [`mbm_problems`], which builds the problems: one scene file, or an array
-//! of them.
+//! by the caller (`std::fs` natively; `fetch` or `fs` for a JS caller) and
+//! handed to [`mbm_problems`], which builds the problems: one scene file, or
+//! an array of them.
 //!
 //! A cylinder becomes a capsule between its end faces' centres with the
 //! cylinder's radius (the library has no cylinder obstacle): it covers the

@@ -2,7 +2,7 @@
 //! the way a user of a reactive controller judges it (the reach benchmark
 //! of `npm run bench -- --reach` and `cargo run --release --example reach`).
 //!
-//! Three problem sets, by name in [`problems`] (`reachProblems` in JS):
+//! Three problem sets, by name in [`problems`]:
 //!
 //! * **`pr2`, NEO's PR2 problems** ([`pr2_problems`]): the five scenes of
 //!   Haviland & Corke's NEO benchmark (bookshelf, counter, industrial A and

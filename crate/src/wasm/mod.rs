@@ -32,7 +32,6 @@ mod boundary;
 mod convert;
 mod kinematics;
 mod messages;
-mod reach;
 mod study;
 mod urdf;
 mod world;
