@@ -354,8 +354,8 @@ export type Task =
 
 export interface Controller {
   mode?: 'velocity' | 'torque' | 'clik2' | undefined;
-  /** Velocity mode: one-sided constraints in one QP with the tasks (default) or the paper's repulsion. */
-  avoidance?: 'constraints' | 'repulsion' | undefined;
+  /** Velocity mode: one-sided constraints in one QP with the tasks (default), the paper's repulsion, or NEO (Haviland & Corke 2021) as a baseline. */
+  avoidance?: 'constraints' | 'repulsion' | 'neo' | undefined;
   /** Clearance below which the constraints avoidance pushes the arm away (m; default 0.02, < influenceDistance). */
   safetyBand?: number | undefined;
   /** Further pairs of links left out of the self-collision query. */
@@ -388,12 +388,40 @@ export interface Controller {
     /** `ssm` (default) or `pfl`: ISO/TS 15066 power and force limiting (needs inertial data). */
     mode?: 'ssm' | 'pfl' | undefined;
   } | undefined;
+  /** NEO's settings (the `neo` avoidance; defaults from its published example). */
+  neo?: NeoSettings | undefined;
+}
+
+/** NEO's gains (`controller.neo`); out of range (e.g. `stoppingDistance ≥ influenceDistance`) → an Error naming the field. */
+export interface NeoSettings {
+  /** Influence distance d_i of the collision dampers (m, > 0; default 0.3). */
+  influenceDistance?: number | undefined;
+  /** Stopping distance d_s (m, ≥ 0 and < influenceDistance; default 0.05). */
+  stoppingDistance?: number | undefined;
+  /** Damper gain ξ (m/s, ≥ 0; default 1). */
+  damperGain?: number | undefined;
+  /** Joint-limit damper: influence angle (rad, > 0; default 0.9), stop angle (≥ 0, < jointInfluence; default 0.05), gain (≥ 0; default 1). */
+  jointInfluence?: number | undefined;
+  jointStop?: number | undefined;
+  jointGain?: number | undefined;
+  /** Weight λ_q of the joint velocities (> 0; default 0.01). */
+  velocityWeight?: number | undefined;
+  /** Weight λ_δ of the task slack, divided by the pose error (> 0; default 1). */
+  slackWeight?: number | undefined;
+  /** Bound of each slack component (> 0; default 10). */
+  slackBound?: number | undefined;
+  /** Weight of the manipulability gradient (≥ 0; default 1). */
+  manipulabilityGain?: number | undefined;
+  /** Gain K of the spatial velocity ν = K e towards the goal (1/s, > 0; default 0.5). */
+  taskGain?: number | undefined;
+  /** Through the jerk-limited limiter (true) or straight to the joints as published (false, default). */
+  limiter?: boolean | undefined;
 }
 
 /** `World.controller()`: every field of `Controller` in effect. */
 export interface ControllerInEffect extends Controller {
   mode: 'velocity' | 'torque' | 'clik2';
-  avoidance: 'constraints' | 'repulsion';
+  avoidance: 'constraints' | 'repulsion' | 'neo';
   selection: 'pairs' | 'perObstacle' | 'pinned';
   pinned: DhPoint[];
   influenceDistance: number;

@@ -1,17 +1,25 @@
 //! The reach benchmark: NEO's 198 PR2 problems, seeded random Panda
 //! problems and MotionBenchMaker's 700 Panda problems, each run to its goal
-//! with the default controller, judged as in [`skeleton_avoidance::reach`],
+//! by every controller — the default `constraints`, the paper's
+//! `repulsion`, NEO as published and NEO through the limiter — in one run
+//! with one evaluator ([`skeleton_avoidance::reach::run`]), reported per
+//! scene and per set with both criteria ([`skeleton_avoidance::reach::report`]),
 //! timed per control step.
 //!
-//! `cargo run --release --example reach [-- --panda N] [--seed S] [--only pr2,panda,mbm] [--verbose]`
+//! `cargo run --release --example reach [-- --panda N] [--seed S] [--only pr2,panda,mbm] [--controllers constraints,repulsion,neo,neo+limiter] [--every K] [--verbose]`
+//!
+//! `--every K` runs every K-th problem of each set (a quicker look; the
+//! report's figures are for the whole sets).
 //!
 //! `--pr2-capsules` runs the PR2 set with the arm as imported (three 0.05 m
-//! capsules) instead of its fitted volumes. `-- --write-pr2` rewrites the built-in PR2 set (`crate/src/reach/pr2.json`)
+//! capsules) instead of its fitted volumes. `-- --write-pr2` rewrites the
+//! built-in PR2 set (`crate/src/reach/pr2.json`)
 //! from the URDF, the meshes and NEO's scenes file.
 
 use std::collections::BTreeMap;
 use std::time::Instant;
 
+use skeleton_avoidance::reach::report::{self, Controller};
 use skeleton_avoidance::reach::{self, Outcome, Problem};
 
 fn arg(name: &str) -> Option<String> {
@@ -21,25 +29,23 @@ fn arg(name: &str) -> Option<String> {
         .and_then(|i| args.get(i + 1).cloned())
 }
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-}
-
-/// Runs every problem: outcomes and µs per step.
+/// Runs every problem with `controller`: outcomes and µs per step.
 fn run_all(
     problems: &[Problem],
+    controller: Controller,
     verbose: bool,
 ) -> Result<Vec<(Outcome, f64)>, Box<dyn std::error::Error>> {
     let mut out = Vec::new();
     for p in problems {
+        let p = controller.problem(p);
         let t0 = Instant::now();
-        let o = reach::run(p)?;
+        let o = reach::run(&p)?;
         let us = t0.elapsed().as_secs_f64() * 1e6 / o.steps.max(1) as f64;
         if verbose {
             println!(
-                "{:<28} {} reached {:>6} neo {:>6} final {:.4} m {:.2}°  clearance {:.4} (start {:.4}, goal {:.4})  q̇ {:.2} q̈ {:.2}{}",
+                "{:<28} {:<12} {} reached {:>6} neo {:>6} final {:.4} m {:.2}°  clearance {:.4} (start {:.4}, goal {:.4})  q̇ {:.2} q̈ {:.2}{}",
                 p.name,
+                controller.label(),
                 if o.success { "ok  " } else { "FAIL" },
                 o.reached.map_or("-".into(), |t| format!("{t:.2}")),
                 o.neo_reached.map_or("-".into(), |t| format!("{t:.2}")),
@@ -58,28 +64,22 @@ fn run_all(
     Ok(out)
 }
 
-fn row(label: &str, runs: &[&(Outcome, f64)]) {
-    let outcomes: Vec<Outcome> = runs.iter().map(|r| r.0.clone()).collect();
-    let mut per_step: Vec<f64> = runs.iter().map(|r| r.1).collect();
-    let s = reach::summarise(&outcomes);
-    println!(
-        "| {label} | {} | {:.1} % ({}) | {:.1} % ({}) | {:.2} s | {:.1} mm | {:.2} | {:.2} | {} | {:.1} µs |",
-        s.problems,
-        100.0 * s.successes as f64 / s.problems.max(1) as f64,
-        s.successes,
-        100.0 * s.neo_successes as f64 / s.problems.max(1) as f64,
-        s.neo_successes,
-        s.median_time,
-        s.min_clearance * 1e3,
-        s.peak.0,
-        s.peak.1,
-        s.violations,
-        median(&mut per_step)
-    );
-}
-
-/// Rows per scene (the second part of the problems' names) and overall.
-fn rows(label: &str, problems: &[Problem], runs: &[(Outcome, f64)]) {
+/// Every controller on `problems`, then the report's rows: per scene (the
+/// second part of the problems' names) and overall, each controller in
+/// turn.
+fn report_set(
+    label: &str,
+    problems: &[Problem],
+    controllers: &[Controller],
+    verbose: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let band = problems
+        .first()
+        .map_or(0.02, |p| p.scenario.controller.safety_band);
+    let mut runs = Vec::new();
+    for &c in controllers {
+        runs.push(run_all(problems, c, verbose)?);
+    }
     let mut scenes: Vec<&str> = Vec::new();
     for p in problems {
         let scene = p.name.split('/').nth(1).unwrap_or("");
@@ -87,19 +87,31 @@ fn rows(label: &str, problems: &[Problem], runs: &[(Outcome, f64)]) {
             scenes.push(scene);
         }
     }
-    for scene in &scenes {
-        let set: Vec<&(Outcome, f64)> = problems
-            .iter()
-            .zip(runs)
-            .filter(|(p, _)| p.name.split('/').nth(1) == Some(scene))
-            .map(|(_, r)| r)
-            .collect();
-        row(&format!("{label} {scene}"), &set);
+    let scene_of = |p: &Problem| p.name.split('/').nth(1).map(str::to_owned);
+    if scenes.len() > 1 {
+        for scene in &scenes {
+            for (c, r) in controllers.iter().zip(&runs) {
+                let set: Vec<&(Outcome, f64)> = problems
+                    .iter()
+                    .zip(r)
+                    .filter(|(p, _)| scene_of(p).as_deref() == Some(scene))
+                    .map(|(_, r)| r)
+                    .collect();
+                println!(
+                    "{}",
+                    report::line(&format!("{label} {scene}"), *c, &report::row(&set, band))
+                );
+            }
+        }
     }
-    row(
-        &format!("**{label}, all**"),
-        &runs.iter().collect::<Vec<_>>(),
-    );
+    for (c, r) in controllers.iter().zip(&runs) {
+        let all: Vec<&(Outcome, f64)> = r.iter().collect();
+        println!(
+            "{}",
+            report::line(&format!("**{label}, all**"), *c, &report::row(&all, band))
+        );
+    }
+    Ok(())
 }
 
 /// The PR2's collision meshes (`tests/data/meshes/pr2/collision/`), by path.
@@ -185,6 +197,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         only.as_deref()
             .is_none_or(|o| o.split(',').any(|s| s == set))
     };
+    let controllers: Vec<Controller> = match arg("--controllers") {
+        Some(list) => list
+            .split(',')
+            .map(|c| {
+                Controller::parse(c)
+                    .ok_or_else(|| format!("--controllers: unknown controller \"{c}\""))
+            })
+            .collect::<Result<_, _>>()?,
+        None => Controller::ALL.to_vec(),
+    };
+    let every: usize = arg("--every").map_or(Ok(1), |s| s.parse())?;
+    let thin = |p: Vec<Problem>| -> Vec<Problem> { p.into_iter().step_by(every.max(1)).collect() };
     let seed: u64 = arg("--seed").map_or(Ok(reach::PANDA_SEED), |s| s.parse())?;
     let count: usize = arg("--panda").map_or(Ok(reach::PANDA_COUNT), |s| s.parse())?;
     let data = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data");
@@ -195,10 +219,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         pr2_fit(data)?;
         println!();
     }
-    println!(
-        "| set | problems | success | NEO's count | median time to goal | min clearance | peak |q̇|/limit | peak |q̈|/limit | runs over a limit or touching while moving | median per step |"
-    );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("{}", report::header());
     if wanted("pr2") {
         let problems = if std::env::args().any(|a| a == "--pr2-capsules") {
             // The arm as imported, the 0.05 m capsules, for comparison.
@@ -208,21 +229,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         } else {
             reach::problems("pr2", None)?
         };
-        let runs = run_all(&problems, verbose)?;
-        rows("PR2", &problems, &runs);
+        report_set("PR2", &thin(problems), &controllers, verbose)?;
     }
     if wanted("panda") {
-        let problems = reach::panda_problems(seed, count)?;
-        let runs = run_all(&problems, verbose)?;
-        row(
+        let problems = thin(reach::panda_problems(seed, count)?);
+        report_set(
             &format!("Panda, random (seed {seed})"),
-            &runs.iter().collect::<Vec<_>>(),
-        );
+            &problems,
+            &controllers,
+            verbose,
+        )?;
     }
     if wanted("mbm") {
-        let problems = mbm(data)?;
-        let runs = run_all(&problems, verbose)?;
-        rows("MotionBenchMaker", &problems, &runs);
+        let problems = thin(mbm(data)?);
+        report_set("MotionBenchMaker", &problems, &controllers, verbose)?;
     }
     Ok(())
 }

@@ -69,3 +69,37 @@ test('robotFromUrdf reads an SRDF\'s disable_collisions and names links', () => 
   assert.equal(spec.linkNames[0], 'panda_link1');
   assert.throws(() => sa.robotFromUrdf(xml, { srdf: '<robot><disable_collisions link1="a"/></robot>' }), /srdf: .*link2/);
 });
+
+test('the NEO baseline is selectable; its gains out of range are refused with the field named, the world unchanged', () => {
+  // The goal beside a ball passed within NEO's influence distance (crate/tests/neo_baseline.rs).
+  const ready = [0.307, 0, 0.59];
+  const neoScene = (neo) => ({
+    ...scene({ avoidance: 'neo', ...(neo ? { neo } : {}) }),
+    obstacles: [{ id: 'ball', shape: { type: 'sphere', center: [ready[0] + 0.22, 0.17, ready[2] - 0.05], radius: 0.05 } }],
+    task: { type: 'goal', position: [ready[0], 0.35, ready[2] - 0.1], orientation: READY_ORIENTATION },
+    dt: 0.005,
+    duration: 15,
+  });
+  const trace = sa.simulate(neoScene({ limiter: true }));
+  const robot = sa.robotPreset('panda');
+  const ee = sa.forwardKinematics(robot, trace.samples.at(-1).q).endEffector;
+  const error = Math.hypot(ee[0][3] - ready[0], ee[1][3] - 0.35, ee[2][3] - (ready[2] - 0.1));
+  assert.ok(error < 0.01, `neo: ${error} m from the goal`);
+  assert.ok(trace.samples.every((s) => s.minClearance === null || s.minClearance > 0));
+
+  assert.throws(() => sa.simulate(neoScene({ influenceDistance: -0.1 })), /controller\.neo\.influenceDistance/);
+  assert.throws(() => sa.simulate(neoScene({ stoppingDistance: 0.3 })), /controller\.neo\.stoppingDistance: must be < neo\.influenceDistance/);
+  assert.throws(() => sa.simulate(neoScene({ damperGain: Number.NaN })), /controller\.neo\.damperGain/);
+  assert.throws(() => sa.simulate(neoScene({ reach: 1 })), /controller\.neo/);
+  const w = new sa.World(scene({}));
+  w.step(0.002);
+  const before = JSON.stringify([w.state().q, w.controller()]);
+  assert.throws(() => w.setController({ avoidance: 'neo', neo: { stoppingDistance: 0.5 } }), /controller\.neo\.stoppingDistance/);
+  assert.throws(() => w.setController({ avoidance: 'neo2' }), /controller\.avoidance/);
+  assert.equal(JSON.stringify([w.state().q, w.controller()]), before);
+  w.setController({ avoidance: 'neo', neo: { limiter: true } });
+  assert.equal(w.controller().avoidance, 'neo');
+  assert.equal(w.controller().neo.limiter, true);
+  assert.equal(w.controller().neo.influenceDistance, 0.3);
+  w.free();
+});

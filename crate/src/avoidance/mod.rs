@@ -50,6 +50,7 @@ pub mod computed_torque;
 pub mod constraints;
 pub mod control;
 pub mod limits;
+pub mod neo;
 pub mod protect;
 pub mod qp;
 pub mod rows;
@@ -89,6 +90,10 @@ pub enum Avoidance {
     /// ([`control::velocity_control`]). The torque and `clik2` modes are the
     /// paper's controllers and always use it.
     Repulsion,
+    /// NEO (Haviland & Corke 2021) as a baseline: its QP with a slack on
+    /// the task, the manipulability term and velocity dampers, settings in
+    /// `controller.neo` ([`neo`]).
+    Neo,
 }
 
 /// How control points are chosen.
@@ -156,8 +161,8 @@ impl Default for Clik2Gains {
 pub struct ControllerConfig {
     /// `velocity` (default), `torque` or `clik2`.
     pub mode: Mode,
-    /// `constraints` (default) or the paper's `repulsion` (velocity mode;
-    /// the other modes always use the repulsion).
+    /// `constraints` (default), the paper's `repulsion` or the `neo`
+    /// baseline (velocity mode; the other modes always use the repulsion).
     pub avoidance: Avoidance,
     /// `pairs`, `perObstacle` (default) or `pinned`.
     pub selection: Selection,
@@ -215,6 +220,8 @@ pub struct ControllerConfig {
     pub moving_point_terms: bool,
     /// The protective layer beneath the repulsion.
     pub protective: ProtectiveConfig,
+    /// NEO's settings (the `neo` avoidance).
+    pub neo: neo::NeoConfig,
 }
 
 /// Damping of the damped least-squares inverse.
@@ -261,6 +268,7 @@ impl Default for ControllerConfig {
             joint_weights: None,
             moving_point_terms: true,
             protective: ProtectiveConfig::default(),
+            neo: neo::NeoConfig::default(),
         }
     }
 }
@@ -303,6 +311,7 @@ impl ControllerConfig {
         non_negative("clik2.kp", self.clik2.kp)?;
         non_negative("clik2.kd", self.clik2.kd)?;
         self.protective.validate()?;
+        self.neo.validate()?;
         if let Some(w) = &self.joint_weights {
             for (k, v) in w.iter().enumerate() {
                 positive(&format!("jointWeights[{k}]"), *v)?;
@@ -318,12 +327,31 @@ impl ControllerConfig {
     }
 
     /// Whether a pair at clearance `distance` (m) lies beyond the influence
-    /// distance (and is left out of selection and guards). The one
-    /// influence test of the crate: a clearance that is not a number is
-    /// not beyond it.
+    /// distance in force ([`Self::influence`]; and is left out of
+    /// selection and guards). The one influence test of the crate: a
+    /// clearance that is not a number is not beyond it.
     #[must_use]
     pub fn beyond_influence(&self, distance: f64) -> bool {
-        distance > self.influence_distance
+        distance > self.influence()
+    }
+
+    /// The influence distance in force (m): NEO's `d_i` under the `neo`
+    /// avoidance, `influenceDistance` otherwise. The scene query reaches
+    /// it.
+    #[must_use]
+    pub fn influence(&self) -> f64 {
+        if self.uses_neo() {
+            self.neo.influence_distance
+        } else {
+            self.influence_distance
+        }
+    }
+
+    /// Whether this controller solves NEO's programme (velocity mode with
+    /// `avoidance: neo`).
+    #[must_use]
+    pub fn uses_neo(&self) -> bool {
+        self.mode == Mode::Velocity && self.avoidance == Avoidance::Neo
     }
 
     /// Whether this controller solves the `constraints` avoidance (velocity

@@ -32,12 +32,14 @@
 //! Files: `mod.rs` (running and judging a problem, the summary),
 //! `pr2.rs`, `pr2_fit.rs` (the arm's volumes fitted to its meshes),
 //! `pr2.json`, `panda.rs`, `mbm.rs` (the sets), `sets.rs` (the
-//! sets by name, a problem as plain data).
+//! sets by name, a problem as plain data), `report.rs` (each controller on
+//! each set, both criteria, the failures classified).
 
 pub mod mbm;
 mod panda;
 mod pr2;
 mod pr2_fit;
+pub mod report;
 pub mod sets;
 
 pub use mbm::mbm_problems;

@@ -1,10 +1,11 @@
 //! Stage 6 of the control step, *control*: the task references, then the
 //! repulsion and the tasks as requested joint velocities (paper §III-A,
-//! eq. 4), or the `constraints` avoidance's QP
-//! ([`crate::avoidance::constraints`]).
+//! eq. 4), the `constraints` avoidance's QP
+//! ([`crate::avoidance::constraints`]) or NEO's ([`crate::avoidance::neo`]).
 
 use super::parts::{Model, State, StepData};
 use crate::avoidance::constraints::{ConstraintsInput, constrained_velocity};
+use crate::avoidance::neo::{NeoInput, neo_velocity};
 use crate::avoidance::{self, ActivePoint, Mode};
 use crate::error::FieldError;
 
@@ -23,7 +24,7 @@ pub(super) fn control(
         &model.robot,
         state.t,
         &state.anchors,
-        cfg.uses_constraints(),
+        cfg.uses_constraints() || cfg.uses_neo(),
         &mut refs,
     );
     data.references = refs;
@@ -40,6 +41,19 @@ pub(super) fn control(
         let mut out = std::mem::take(&mut data.request);
         let outcome = constrained_velocity(&input, &mut data.guard.qp, &mut out)?;
         data.guard.relaxed = outcome.relaxed;
+        data.request = out;
+    } else if cfg.uses_neo() {
+        let input = NeoInput {
+            robot: &model.robot,
+            frames: &data.frames,
+            q: &state.q,
+            tasks: &data.references,
+            dampers: &data.guard.guards,
+            config: cfg,
+        };
+        let mut out = std::mem::take(&mut data.request);
+        let outcome = neo_velocity(&input, &mut data.guard.qp, &mut out)?;
+        data.guard.relaxed = outcome.solution.worst.is_some();
         data.request = out;
     } else {
         let joints = (state.q.as_slice(), state.motion.qdot.as_slice());

@@ -19,6 +19,7 @@ use super::motion::PartMotion;
 use super::parts::{EventLog, Model, State, StepData};
 use super::tracker::stop;
 use crate::avoidance::ControllerConfig;
+use crate::avoidance::neo::{DamperContext, collision_dampers};
 use crate::avoidance::protect::{self, GuardContext, GuardPair};
 use crate::avoidance::selection::fraction_on;
 use crate::dependability::EventKind;
@@ -50,7 +51,9 @@ fn guard_pairs(state: &State, data: &mut StepData, cfg: &ControllerConfig, pairs
                     .get(id as usize)
                     .copied()
                     .unwrap_or_default();
-                end_pairs(state, data, cfg, p, (id as usize, o, &motion), &mut out);
+                if !cfg.uses_neo() {
+                    end_pairs(state, data, cfg, p, (id as usize, o, &motion), &mut out);
+                }
                 // The part's own margin (its own σ with `partSigma`).
                 let margin =
                     state.sensed.obstacles[o].part_margin(state.sensed.part_index[id as usize]);
@@ -190,6 +193,17 @@ pub(super) fn prepare_guards(
     let cfg = &model.scenario.controller;
     data.guard.doomed = None;
     data.guard.stop_time = f64::INFINITY;
+    if cfg.uses_neo() {
+        // NEO's collision dampers at the witnesses, no protective bounds.
+        guard_pairs(state, data, cfg, pairs);
+        let ctx = DamperContext {
+            robot: &model.robot,
+            frames: &data.frames,
+            skeleton: &data.skeleton,
+            config: &cfg.neo,
+        };
+        return collision_dampers(&ctx, &data.guard.pairs, &mut data.guard.guards);
+    }
     if !cfg.protective.enabled {
         data.guard.guards.clear();
         return Ok(());
@@ -239,7 +253,7 @@ pub(super) fn protect(
     dt: f64,
 ) -> bool {
     let cfg = &model.scenario.controller;
-    if !cfg.protective.enabled {
+    if !cfg.protective.enabled || cfg.uses_neo() {
         return true;
     }
     let guards = std::mem::take(&mut data.guard.guards);

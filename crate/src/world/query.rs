@@ -32,7 +32,7 @@ pub(super) fn scene_query(
         .map(|o| o.margin)
         .fold(0.0, f64::max);
     let options = QueryOptions {
-        influence_distance: cfg.influence_distance + max_margin,
+        influence_distance: cfg.influence() + max_margin,
         self_collision: cfg.self_collision,
         ..QueryOptions::default()
     };

@@ -253,7 +253,9 @@ impl GuardPair {
     }
 }
 
-fn jacobian_at(
+/// The Jacobians of the arm's point at `fraction` along skeleton segment
+/// `segment`, into `out`.
+pub(crate) fn jacobian_at(
     robot: &Robot,
     frames: &Frames,
     skeleton: &Skeleton,
