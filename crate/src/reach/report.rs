@@ -284,6 +284,7 @@ mod tests {
                 jerk: 0.1,
                 clearance: 0.03,
                 moving_contact: None,
+                torque: None,
             },
             steps: 100,
             stopped: false,
