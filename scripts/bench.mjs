@@ -15,6 +15,8 @@
 //                                  measures this build against another,
 //                                  interleaved: bench-ab.mjs; --drag
 //                                  drags the view so every frame draws)
+//   npm run bench -- --camera     (only the playground with its camera on:
+//                                  fps and the estimator's Hz; bench-camera.mjs)
 //   npm run bench -- --reach      (only the reach benchmark: NEO's 198 PR2
 //                                  problems and 100 random Panda problems,
 //                                  `cargo run --release --example reach`)
@@ -26,6 +28,7 @@ import { repo, run } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
 import { buildWasm } from './build.mjs';
 import { frameRows, frameTable } from './bench-frames.mjs';
+import { cameraTable } from './bench-camera.mjs';
 import { abTable } from './bench-ab.mjs';
 import { median, nativeRound as nativeRoundIn, stepAbTable, wasmControlStep, wasmMedian } from './bench-step-ab.mjs';
 
@@ -41,6 +44,7 @@ if (process.argv.includes('--reach')) {
   console.log('\n=== reach benchmark (crate/examples/reach.rs; success: within 1 cm and 2° in 10 s, within every limit, no contact while moving)');
   process.exit(run('cargo', ['run', '--release', '-q', '-p', 'skeleton-avoidance', '--example', 'reach']));
 }
+if (process.argv.includes('--camera')) process.exit((await cameraTable()) ? 0 : 1);
 if (process.argv.includes('--frames')) {
   const only = option('only')?.split(',');
   const unknown = only?.filter((name) => !frameRows(exampleNames()).some((r) => r.name === name));
@@ -153,3 +157,4 @@ table(
 }
 
 if (!(await frameTable(exampleNames()))) process.exit(1);
+if (!(await cameraTable())) process.exit(1);

@@ -1,6 +1,7 @@
 // Static server for the playground: web/ at "/", the wasm package crate/pkg at
-// "/pkg/", the presets' meshes (crate/tests/data) at "/robots/". No
-// dependencies; used by `npm start` and by the browser tests.
+// "/pkg/", the presets' meshes (crate/tests/data) at "/robots/", the camera's
+// pose estimator (scripts/estimator-files.mjs, from node_modules) at
+// "/estimator/". No dependencies; used by `npm start` and by the browser tests.
 // With `--root dist` it serves the built site as it is (the npm package's
 // files in skeleton-avoidance/, scripts/site.mjs); any
 // other folder (an absolute path) is served as it is too.
@@ -10,6 +11,7 @@ import http from 'node:http';
 import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { estimatorFile } from './estimator-files.mjs';
 
 const repo = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 
@@ -23,7 +25,28 @@ const TYPES = {
   '.png': 'image/png',
   '.svg': 'image/svg+xml',
   '.md': 'text/plain; charset=utf-8',
+  '.txt': 'text/plain; charset=utf-8',
 };
+
+/** Sends `file` (404 naming `pathname` when it cannot be read, or `file` is null). */
+function send(res, file, pathname) {
+  if (file === null) {
+    res.writeHead(404, { 'content-type': 'text/plain' });
+    res.end(`not found: ${pathname}\n`);
+    return;
+  }
+  fs.readFile(file, (err, data) => {
+    if (err) {
+      send(res, null, pathname);
+      return;
+    }
+    res.writeHead(200, {
+      'content-type': TYPES[path.extname(file)] ?? 'application/octet-stream',
+      'cache-control': 'no-store',
+    });
+    res.end(data);
+  });
+}
 
 /**
  * Starts the server; resolves to `{ server, url }` once it listens. With
@@ -39,22 +62,17 @@ export function serve({ port = 8080, host = '127.0.0.1', root = 'web', tree = re
     const url = new URL(req.url ?? '/', 'http://localhost');
     let pathname = decodeURIComponent(url.pathname);
     if (pathname.endsWith('/')) pathname += 'index.html';
+    // The estimator's files by name only (a fixed list: nothing else of node_modules).
+    const estimator = root === 'web' && pathname.startsWith('/estimator/') ? estimatorFile(pathname.slice('/estimator/'.length)) : undefined;
+    if (estimator !== undefined) {
+      send(res, estimator, pathname);
+      return;
+    }
     for (const [prefix, dir] of mounts) {
       if (!pathname.startsWith(prefix)) continue;
       const file = path.join(dir, pathname.slice(prefix.length));
       if (!file.startsWith(dir)) break; // no escaping the mount
-      fs.readFile(file, (err, data) => {
-        if (err) {
-          res.writeHead(404, { 'content-type': 'text/plain' });
-          res.end(`not found: ${pathname}\n`);
-          return;
-        }
-        res.writeHead(200, {
-          'content-type': TYPES[path.extname(file)] ?? 'application/octet-stream',
-          'cache-control': 'no-store',
-        });
-        res.end(data);
-      });
+      send(res, file, pathname);
       return;
     }
     res.writeHead(404, { 'content-type': 'text/plain' });

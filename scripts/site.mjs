@@ -18,6 +18,7 @@ import { ensureTools } from './tools.mjs';
 import { buildPackage } from './package.mjs';
 import { PACKAGE_DIR, unpackPackage, writePages } from './site-pages.mjs';
 import { PRESET_MESHES } from '../web/preset-meshes.js';
+import { copyEstimator } from './estimator-files.mjs';
 
 /**
  * The size budget of the gzipped wasm, bytes (1.8 MB): 1.5 MB until the
@@ -90,5 +91,16 @@ for (const f of robotFiles) {
 console.log(`site: dist/robots/ ${robotFiles.size} files, ${mb(robotBytes)} MB (limit ${mb(ROBOTS_LIMIT)} MB; fetched only with the iiwa14, Panda or UR5 preset)`);
 if (robotBytes > ROBOTS_LIMIT) {
   console.error('site: the preset meshes are over their size budget');
+  process.exit(1);
+}
+
+// The camera's pose estimator (TensorFlow.js on wasm and MoveNet Lightning,
+// from node_modules; scripts/estimator-files.mjs), fetched by the playground
+// only when the camera is switched on: not part of the wasm budget above.
+try {
+  const bytes = copyEstimator(path.join(dist, 'estimator'));
+  console.log(`site: dist/estimator/ ${mb(bytes)} MB (fetched only when the camera is switched on)`);
+} catch (err) {
+  console.error(err instanceof Error ? err.message : err);
   process.exit(1);
 }

@@ -28,6 +28,10 @@ const layers = [
     return run('cargo', [...args, '--all-features', ...lints]) || run('cargo', [...args, ...lints]);
   }],
   ['cargo-test', 'native unit, integration and doc tests', () => run('cargo', ['test', '--workspace', '--all-features'])],
+  ['batch', 'docs/batch/monte-carlo.slurm on a real Slurm (controller and node on localhost), merged = whole study', () => {
+    if (run('cargo', ['build', '--workspace', '--all-features', '--bin', 'monte-carlo']) !== 0) return 1;
+    return run('node', ['--test', ...testFiles('tests/batch')]);
+  }],
   ['doc', 'cargo doc --no-deps with RUSTDOCFLAGS=-D warnings (broken links, missing docs)', () =>
     run('cargo', ['doc', '--workspace', '--no-deps'], { env: { RUSTDOCFLAGS: '-D warnings' } })],
   ['wasm-node', 'wasm-pack test --node: the numerics compiled to wasm', () =>
@@ -64,7 +68,8 @@ process.env.CARGO_INCREMENTAL ??= '0';
 
 const t0 = performance.now();
 const needBrowser = !only || only.has('browser') || only.has('package');
-if (!ensureTools({ browser: needBrowser })) {
+const needSlurm = !only || only.has('batch');
+if (!ensureTools({ browser: needBrowser, slurm: needSlurm })) {
   console.error('npm test: the toolchain is incomplete (see above); no layer was run.');
   process.exit(1);
 }

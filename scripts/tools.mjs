@@ -1,10 +1,11 @@
 // Installs what the project needs and is missing, idempotently: the wasm32
 // target, pinned wasm-pack and wasm-bindgen-cli, the npm dependencies and (for
-// the browser tests) Debian's Chromium. Each step checks versions first and
-// costs well under a second when everything is present. A step that cannot
-// install prints what is missing and how to install it by hand.
+// the browser tests) Debian's Chromium, (for the batch test) Debian's Slurm.
+// Each step checks versions first and costs well under a second when
+// everything is present. A step that cannot install prints what is missing
+// and how to install it by hand.
 //
-//   node scripts/tools.mjs [--browser]
+//   node scripts/tools.mjs [--browser] [--slurm]
 import fs from 'node:fs';
 import path from 'node:path';
 import { repo, run, capture } from './lib.mjs';
@@ -68,24 +69,63 @@ function ensureNpm() {
   }
 }
 
-function ensureChromium() {
-  if (fs.existsSync(CHROMIUM)) return;
+/**
+ * Installs Debian packages when `present()` is false: as root with apt-get,
+ * else it fails with the command to run by hand.
+ */
+function ensureDebian(what, present, packages, howto) {
+  if (present()) return;
   const isRoot = typeof process.getuid === 'function' && process.getuid() === 0;
   const hasApt = capture('apt-get', ['--version']).status === 0;
   if (isRoot && hasApt) {
-    console.log('tools: installing Debian\'s chromium for the browser tests');
-    if (run('apt-get', ['update', '-qq']) === 0 && run('apt-get', ['install', '-y', '-qq', 'chromium'], { env: { DEBIAN_FRONTEND: 'noninteractive' } }) === 0 && fs.existsSync(CHROMIUM)) {
-      return;
-    }
+    console.log(`tools: installing Debian's ${packages.join(', ')} for ${what}`);
+    const env = { DEBIAN_FRONTEND: 'noninteractive' };
+    const install = ['install', '-y', '-qq', '--no-install-recommends', ...packages];
+    if (run('apt-get', ['update', '-qq']) === 0 && run('apt-get', install, { env }) === 0 && present()) return;
   }
-  fail(`Chromium is missing (${CHROMIUM}); the browser tests drive it.`, [
-    'sudo apt-get update && sudo apt-get install -y chromium',
+  fail(`${what}: ${packages.join(', ')} missing.`, [`sudo apt-get update && sudo apt-get install -y ${packages.join(' ')}`, ...howto]);
+}
+
+function ensureChromium() {
+  ensureDebian('the browser tests (Chromium)', () => fs.existsSync(CHROMIUM), ['chromium'], [
     '(Debian/Ubuntu; elsewhere install Chromium and set CHROMIUM_PATH=/path/to/the/chromium/binary)',
   ]);
 }
 
-/** Ensures every tool; `browser` adds Chromium. Returns false (after printing why) on failure. */
-export function ensureTools({ browser = false } = {}) {
+/** Slurm's controller, node daemon and client commands, for the batch layer. */
+export const SLURM_COMMANDS = ['slurmctld', 'slurmd', 'sbatch', 'squeue', 'scontrol', 'sinfo'];
+
+/**
+ * The path of a command on PATH or in /usr/sbin (where Debian puts the
+ * daemons), or null. Slurm's client commands need a configuration even for
+ * `--version`, so presence is looked up rather than run.
+ */
+export function commandPath(cmd) {
+  const dirs = [...(process.env.PATH ?? '').split(path.delimiter), '/usr/sbin', '/usr/local/sbin'];
+  for (const dir of dirs) {
+    const file = path.join(dir, cmd);
+    try {
+      fs.accessSync(file, fs.constants.X_OK);
+      return file;
+    } catch {
+      // not here
+    }
+  }
+  return null;
+}
+
+function ensureSlurm() {
+  const present = () => SLURM_COMMANDS.every((c) => commandPath(c) !== null);
+  ensureDebian('the batch test (a real Slurm on localhost)', present, ['slurmctld', 'slurmd', 'slurm-client'], [
+    '(Debian/Ubuntu; elsewhere any Slurm 22 or later with slurmctld, slurmd and the client commands on PATH)',
+  ]);
+}
+
+/**
+ * Ensures every tool; `browser` adds Chromium, `slurm` Slurm. Returns false
+ * (after printing why) on failure.
+ */
+export function ensureTools({ browser = false, slurm = false } = {}) {
   try {
     ensureRust();
     ensureCargoTool('wasm-pack', 'wasm-pack', WASM_PACK, true);
@@ -93,6 +133,7 @@ export function ensureTools({ browser = false } = {}) {
     ensureCargoTool('wasm-bindgen', 'wasm-bindgen-cli', WASM_BINDGEN, false);
     ensureNpm();
     if (browser && !process.env.CHROMIUM_PATH) ensureChromium();
+    if (slurm) ensureSlurm();
     return true;
   } catch (e) {
     if (e instanceof MissingTool) {
@@ -104,5 +145,5 @@ export function ensureTools({ browser = false } = {}) {
 }
 
 if (process.argv[1] && path.resolve(process.argv[1]) === path.join(repo, 'scripts', 'tools.mjs')) {
-  process.exit(ensureTools({ browser: process.argv.includes('--browser') }) ? 0 : 1);
+  process.exit(ensureTools({ browser: process.argv.includes('--browser'), slurm: process.argv.includes('--slurm') }) ? 0 : 1);
 }

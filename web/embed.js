@@ -67,6 +67,7 @@ export class SkeletonPlayground extends HTMLElement {
       captureWheel: this.hasAttribute('fill'),
       share: this.hasAttribute('share'),
       presetMeshes: this.getAttribute('preset-meshes') ?? undefined,
+      estimator: this.getAttribute('estimator') ?? undefined,
     });
     this.playground = pg;
     if (this.hasAttribute('paused')) pg.toggleRun();

@@ -5,7 +5,8 @@
 // Owns: the clock, the frame counter, whether a refresh is due after a
 // seek. Interface: `sim`, `viewer()`, `drawWorld()`, the parts it feeds
 // (`readouts`, `plots`, `trace`, `events`), `running()`, `speed()`,
-// `offscreen()` and `onError(message)` (the loop stopped).
+// `offscreen()`, `beforeSteps()` (a live person's latest frame into the
+// world) and `onError(message)` (the loop stopped).
 import { errorText } from './dom.js';
 import { SimClock } from './clock.js';
 
@@ -48,6 +49,7 @@ export class FrameLoop {
     const { sim, readouts } = this.host;
     const dt = sim.scenario.dt;
     const t0 = performance.now();
+    this.host.beforeSteps?.();
     const steps = this.clock.stepsDue(this.clock.since(now), dt, this.host.speed(), this.host.running() && !this.host.offscreen());
     // One call per frame where the binding offers it.
     if (steps > 0 && typeof sim.world.advance === 'function') sim.world.advance(dt, steps);

@@ -194,6 +194,7 @@ export class Panel {
       h('h3', {}, 'Obstacles'),
       h('div', { class: 'palette' }, PALETTE.map((t, k) => button(`add-${t}`, t, () => pg.addObstacle(t), `add a ${t} (key ${(k + 1) % 10})`))),
       p.obstacles, p.selectedBox,
+      ...(sections.live ?? []),
       h('h3', {}, 'Controller'),
       field('mode', p.mode), field('selection', p.selection),
       field('influence distance (m)', p.influenceDistance), field('repulsion gain', p.repulsionGain),

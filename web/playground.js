@@ -20,6 +20,7 @@
 // | `EventFeed` | events.js | notices and the event log |
 // | `TraceRecorder` | export.js | the run so far, for *trace CSV / JSON* |
 // | `Panel` | panel.js | the side panel's controls |
+// | `LiveInput` | camera.js | the camera, the sensor bridge, the live person's frames |
 // | `FrameLoop` | loop.js | stepping (`SimClock`, clock.js), drawing, feeding the readouts |
 // | `WidgetFrame` | frame.js | the view's overlays, the help, the bar |
 // | input | input.js | pointer, wheel, touch and keys of the view |
@@ -46,6 +47,7 @@ import { armPoints, placeNotices } from './notice-place.js';
 import { PALETTE, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, useLibrary } from './shapes.js';
 import { WidgetFrame, softwareWebGpu } from './frame.js';
 import { loadWasm } from './wasm.js';
+import { LiveInput } from './camera.js';
 
 export { loadWasm };
 export { PALETTE, PRESETS, defaultShape, rotateShape, scaleShape, shapeCenter, translateShape, useLibrary };
@@ -82,7 +84,7 @@ export class Playground {
     const load = (scenario, label) => this.loadScenario(scenario, label);
     const changed = () => this.links.forget();
     this.messages = messages;
-    this.readouts = new Readouts({ sim, running: () => this.running, speed: () => this.speed, backend: () => this.backend });
+    this.readouts = new Readouts({ sim, running: () => this.running, speed: () => this.speed, backend: () => this.backend, extra: () => this.live.hudLines() });
     this.links = new SceneLinks({ sim, messages, load, statusBox: () => this.panelPart?.el.status ?? null, share: Boolean(this.options.share) });
     this.edits = new SceneEdits({ sim, viewer, messages, changed, shown: (list) => this.showSelection(list) });
     this.pinning = new Pinning({ sim, viewer, canvas: this.canvas, messages, changed,
@@ -94,6 +96,7 @@ export class Playground {
       this.fit();
     } });
     this.presetMeshes = new PresetMeshes({ base: this.options.presetMeshes, sim, viewer, messages });
+    this.live = new LiveInput({ sim, messages, estimator: this.options.estimator, speed: () => this.speed, changed, selected: () => this.edits.selected });
   }
 
   // ---- DOM ----
@@ -106,7 +109,7 @@ export class Playground {
       options: this.options,
       controls: this.controls,
       canvas: this.canvas,
-      overlays: [this.readouts.statsBox, this.readouts.hud],
+      overlays: [this.readouts.statsBox, this.readouts.hud, this.live.thumb],
       messages: this.messages,
       plots: this.plotStrip.element,
       onDrop: (e) => this.urdf.drop(e),
@@ -120,7 +123,7 @@ export class Playground {
     this.loop = new FrameLoop({
       sim: this.sim, viewer: () => this.viewer, drawWorld: () => this.drawWorld(),
       readouts: this.readouts, plots: this.plotStrip, trace: this.trace, events: this.events,
-      running: () => this.running, speed: () => this.speed, offscreen: () => this.offscreen,
+      running: () => this.running, speed: () => this.speed, offscreen: () => this.offscreen, beforeSteps: () => this.live.apply(),
       onError: (message) => this.showError(message),
     });
     if (full) this.container.append(this.buildPanel());
@@ -133,7 +136,7 @@ export class Playground {
     this.studyContext = study.context;
     this.panelPart = new Panel({
       sim: this.sim,
-      sections: { pinned: this.pinning.section(), dependability: study.element },
+      sections: { pinned: this.pinning.section(), dependability: study.element, live: this.live.section() },
       parts: { edits: this.edits, links: this.links, urdf: this.urdf, messages: this.messages },
       actions: {
         toggleRun: () => this.toggleRun(),
@@ -245,6 +248,7 @@ export class Playground {
 
   destroy() {
     this.loop.stop();
+    this.live.stop();
     this.sim.free();
     this.viewer?.free();
     this.viewer = null;
@@ -324,6 +328,7 @@ export class Playground {
     this.drawWorld();
     this.events.clear();
     this.trace.clear();
+    this.live.feed.reset();
     const speeds = robotRows(this.sim.robotSpec).map((r) => r.joint.maxVelocity).filter(Number.isFinite);
     this.plotStrip.clear(this.sim.influence(), speeds.length ? Math.min(...speeds) : NaN);
   }
@@ -465,19 +470,14 @@ export class Playground {
 
   // ---- what pages, the console and the tests read ----
 
-  get wasm() { return this.sim.wasm; }
-  get world() { return this.sim.world; }
-  get scenario() { return this.sim.scenario; }
-  get robotSpec() { return this.sim.robotSpec; }
-  get state() { return this.sim.state; }
+  get wasm() { return this.sim.wasm; } get world() { return this.sim.world; }
+  get scenario() { return this.sim.scenario; } get robotSpec() { return this.sim.robotSpec; } get state() { return this.sim.state; }
   get edited() { return this.sim.edited; } set edited(on) { this.sim.edited = on; }
   get selected() { return this.edits.selected; }
-  get stats() { return this.readouts.stats; }
-  get hud() { return this.readouts.hud; }
+  get stats() { return this.readouts.stats; } get hud() { return this.readouts.hud; }
   get plots() { return this.plotStrip.plots; }
   get panel() { return this.panelPart?.el; }
-  get errorBox() { return this.messages.errorBox; }
-  get errorMessage() { return this.messages.errorMessage; }
+  get errorBox() { return this.messages.errorBox; } get errorMessage() { return this.messages.errorMessage; }
   get urdfReport() { return this.urdf.report; }
   get presetFiles() { return this.presetMeshes.files; } set presetFiles(files) { this.presetMeshes.files = files; }
   get presetMeshesShown() { return this.presetMeshes.shown; }

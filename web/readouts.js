@@ -4,7 +4,7 @@
 //
 // Owns: the HUD and stats boxes and the frame statistics (`stats`).
 // Interface: `sim` (the state and the scenario read), `running()`,
-// `speed()` and `backend()`.
+// `speed()`, `backend()` and `extra()` (lines of a live person's sensing).
 import { h } from './dom.js';
 
 export class Readouts {
@@ -48,7 +48,7 @@ export class Readouts {
     this.statsBox.textContent = `${st.fps.toFixed(0)} fps  ${st.frameMs.toFixed(1)} ms/frame\n`
       + `${st.stepsPerFrame} steps/frame (${(1 / sim.scenario.dt).toFixed(0)} Hz × ${this.host.speed().toFixed(2)})\n`
       + `step ${st.stepMs.toFixed(2)} ms  draw ${st.drawMs.toFixed(2)} ms  ${this.host.backend() === 'webgpu' ? 'WebGPU' : 'WebGL2'}`;
-    this.hud.textContent = hudLines(sim.state, this.host.running(), sim.influence()).join('\n');
+    this.hud.textContent = [...hudLines(sim.state, this.host.running(), sim.influence()), ...(this.host.extra?.() ?? [])].join('\n');
   }
 
   /**

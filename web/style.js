@@ -24,6 +24,8 @@ export const STYLE = `
        font: 12px/1.35 ui-monospace, monospace; white-space: pre-wrap; pointer-events: none; max-width: calc(50% - 0.75rem); }
 .stats { left: 0.5rem; padding: 0.2rem 0.45rem; color: #3a4150; }
 .hud { right: 0.5rem; padding: 0.25rem 0.5rem; }
+.camera-thumb { position: absolute; left: 0.5rem; bottom: 2.8rem; width: 160px; height: 120px; border: 1px solid #dde1e8; border-radius: 4px; background: #000; pointer-events: none; }
+.camera-thumb[hidden] { display: none; }
 .notices { position: absolute; left: 0.5rem; bottom: 0.5rem; display: grid; grid-template-columns: minmax(0, auto) auto; align-items: start;
            justify-items: start; gap: 0.25rem; max-width: min(34rem, calc(100% - 8rem)); pointer-events: none; }
 .notices[data-corner="top-left"] { top: var(--notices-top, 0.5rem); bottom: auto; max-width: min(34rem, calc(50% - 0.75rem)); }
@@ -120,6 +122,7 @@ button:focus-visible, select:focus-visible, input:focus-visible { outline: 2px s
   .sp.full { grid-template-rows: minmax(0, 1fr) 13rem; }
   .plots { grid-template-columns: minmax(0, 1fr); grid-auto-rows: 10rem; }
   .stats, .hud { font-size: 10.5px; }
+  .camera-thumb { width: 96px; height: 72px; bottom: 5rem; }
   .notices, .notices[data-corner] { left: 0.5rem; right: auto; top: auto; bottom: 2.6rem; max-width: calc(100% - 1rem); }
 }
 `;
