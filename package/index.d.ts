@@ -720,6 +720,24 @@ export function importTrack(text: string, options?: TrackOptions): { shape: Huma
 export function simulate(scenario: Scenario): Trace;
 export function exampleScenario(name: string): Scenario;
 export function exampleScenarioNames(): string[];
+/** A reach problem set: NEO's 198 PR2 problems, 100 seeded random Panda problems, MotionBenchMaker's 700 Panda problems. */
+export type ReachSet = 'pr2' | 'panda' | 'mbm';
+/** One reach problem: a scenario with a `goal` task (it opens in the playground as it is), and the goal it asks for. */
+export interface ReachProblem {
+  /** `set/scene/index`, e.g. `pr2/bookshelf/3`. */
+  name: string;
+  scenario: Scenario;
+  /** The end effector's goal pose. */
+  goal: { position: Vec3; orientation: Quat };
+  /** A configuration at the goal, when the problem comes with one. */
+  goalQ?: number[] | undefined;
+}
+/**
+ * The problems of a reach set. `data`: for `'mbm'` only (not built in for its size), the
+ * MotionBenchMaker scene files (`crate/tests/data/mbm/*.json`): one file or an array of them,
+ * as objects or JSON text.
+ */
+export function reachProblems(set: ReachSet, data?: unknown): ReachProblem[];
 /** `runs` copies of `scenario` with independent sensing seeds, reduced to distributions. */
 export function monteCarlo(scenario: Scenario, options: MonteCarloOptions): MonteCarloReport;
 /** A block of runs of a study (for a progress bar); merge the rows with `monteCarloMerge`. */

@@ -18,8 +18,11 @@
 //   npm run bench -- --camera     (only the playground with its camera on:
 //                                  fps and the estimator's Hz; bench-camera.mjs)
 //   npm run bench -- --reach      (only the reach benchmark: NEO's 198 PR2
-//                                  problems and 100 random Panda problems,
-//                                  `cargo run --release --example reach`)
+//                                  problems on the arm's fitted volumes,
+//                                  100 random Panda problems and
+//                                  MotionBenchMaker's 700 Panda problems,
+//                                  `cargo run --release --example reach`;
+//                                  --only pr2,panda,mbm picks sets)
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -41,8 +44,10 @@ const benches = fs
 const quick = process.argv.includes('--tables');
 if (!ensureTools({ browser: true })) process.exit(1);
 if (process.argv.includes('--reach')) {
-  console.log('\n=== reach benchmark (crate/examples/reach.rs; success: within 1 cm and 2° in 10 s, within every limit, no contact while moving)');
-  process.exit(run('cargo', ['run', '--release', '-q', '-p', 'skeleton-avoidance', '--example', 'reach']));
+  console.log("\n=== reach benchmark (crate/examples/reach.rs; success: within 1 cm and 2° in 10 s, within every limit, no contact while moving; NEO's count: summed pose error below 0.25 within 25 s)");
+  const only = option('only');
+  const args = only ? ['--', '--only', only] : [];
+  process.exit(run('cargo', ['run', '--release', '-q', '-p', 'skeleton-avoidance', '--example', 'reach', ...args]));
 }
 if (process.argv.includes('--camera')) process.exit((await cameraTable()) ? 0 : 1);
 if (process.argv.includes('--frames')) {

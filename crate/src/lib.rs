@@ -31,7 +31,7 @@
 //! | [`parsers`] | readers of files: URDF and SRDF, meshes (STL, OBJ, COLLADA, glTF), keypoint tracks (JSON, CSV) and BVH motion capture | — |
 //! | [`mesh`] | the triangle mesh (`TriMesh`): scale and origin, bounds, enclosed volume, area, simplification for drawing | — |
 //! | [`fitting`] | skeleton volumes fitted to collision meshes, their coverage and excess; a URDF with its mesh files | — |
-//! | [`reach`] | reach problems (NEO's PR2 scenes, seeded Panda problems) judged by one evaluator, for the reach benchmark | — |
+//! | [`reach`] | reach problems (NEO's PR2 scenes, seeded Panda problems, MotionBenchMaker's Panda problems) judged by one evaluator, for the reach benchmark; the sets by name as plain data | — |
 //! | [`rng`] | a seeded generator (xoshiro256**), the same bits on every target | — |
 //! | [`workloads`] | fixed workloads shared by the native and the wasm benchmarks | — |
 //! | [`error`] | `FieldError` (a JSON-like path and a reason) and the shared validators | — |

@@ -56,6 +56,21 @@ const OBSTACLE = { id: 'fuzz', shape: { type: 'sphere', center: [0.3, 0.3, 0.3],
 const CONTROLLER = { mode: 'torque', influenceDistance: 0.3, damping: { epsilon: 0.05, lambdaMax: 0.05 } };
 const URDF = `<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.3"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>`;
 
+/** A MotionBenchMaker scene file with one problem (reachProblems' data). */
+const MBM = {
+  set: 'mbm',
+  problems: [{
+    name: 'mbm/fuzz/1',
+    start: [0, -0.785, 0, -2.356, 0, 1.571, 0.785],
+    goalQ: [0.1, -0.6, 0, -2.2, 0, 1.6, 0.7],
+    goal: { position: [0.4, 0, 0.5], rotation: [1, 0, 0, 0] },
+    obstacles: {
+      boxes: [{ id: 'b', center: [0.6, 0, 0.2], halfExtents: [0.1, 0.1, 0.1], rotation: [0, 0, 0, 1] }],
+      cylinders: [{ id: 'c', center: [0.5, 0.3, 0.3], rotation: [0, 0, 0, 1], radius: 0.03, halfLength: 0.06, a: [0.5, 0.3, 0.24], b: [0.5, 0.3, 0.36] }],
+    },
+  }],
+};
+
 /** An argument: valid, a mutated valid one, or anything. */
 function arg(r, valid) {
   const x = r.next();
@@ -105,6 +120,9 @@ const FUNCTIONS = {
   monteCarlo: (r) => [arg(r, r.pick(SCENARIOS)), arg(r, { runs: 1 + r.int(2), seed: r.int(5), rows: r.chance(0.5) })],
   monteCarloRuns: (r) => [arg(r, r.pick(SCENARIOS)), arg(r, { seed: r.int(5), from: r.int(3), count: 1 + r.int(2) })],
   monteCarloMerge: (r) => [arg(r, ROWS), r.chance(0.5) ? undefined : arg(r, { rows: true })],
+  // Data always given: the built-in sets then refuse it at once (building
+  // 'pr2' takes about half a second, 'panda' seconds).
+  reachProblems: (r) => [arg(r, r.pick(['mbm', 'pr2', 'ur5'])), arg(r, r.pick([MBM, [MBM], JSON.stringify(MBM)]))],
 };
 
 /** World methods: [name, args, edits?]. */

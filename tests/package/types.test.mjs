@@ -116,6 +116,7 @@ const study = sa.exampleScenario('chattering');
 const small = { ...study, duration: 0.5 };
 add('T.MonteCarloReport', sa.monteCarlo(small, { runs: 2, seed: 1, rows: true }));
 add('T.MonteCarloRow[]', sa.monteCarloRuns(small, { seed: 1, from: 0, count: 2 }));
+add('T.ReachProblem[]', ends(sa.reachProblems('pr2'), 1));
 fs.writeFileSync('observed.ts', lines.join('\\n') + '\\n');
 console.log(n);
 `;

@@ -32,6 +32,7 @@ mod boundary;
 mod convert;
 mod kinematics;
 mod messages;
+mod reach;
 mod study;
 mod urdf;
 mod world;
