@@ -199,7 +199,8 @@ pub struct ControllerConfig {
     /// away (m, ≥ 0 and < `influenceDistance`; default 0.02). Between it and
     /// the influence distance a pair may only be approached at the damper's
     /// speed, `maxRepulsionSpeed · (d − band) / (ρ₀ − band)`, less the
-    /// obstacle's own approach speed.
+    /// obstacle's own approach speed; the band grows with that speed by
+    /// [`protect::DAMPER_HEADWAY`].
     pub safety_band: f64,
     /// Whether segments of non-adjacent links repel each other (default
     /// true). Pairs whose distance no joint can change are left out

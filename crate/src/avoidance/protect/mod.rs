@@ -184,9 +184,13 @@ impl Default for Guard {
 
 /// The velocity damper of the `constraints` avoidance (Faverjon &
 /// Tournassoud; NEO's form): the arm may approach a pair at clearance `d`
-/// at most at `gain · (d − band) / (influence − band)` less the obstacle's
-/// own approach speed, and is pushed away (at most at `gain`) below the
-/// band or when the obstacle closes in faster than that.
+/// at most at `gain · (d − band') / (influence − band')` less the
+/// obstacle's own approach speed, and is pushed away (at most at `gain`)
+/// below the band or when the obstacle closes in faster than that.
+///
+/// `band' = band + v · DAMPER_HEADWAY` (at most halfway to the influence
+/// distance): an obstacle closing in at `v` is kept [`DAMPER_HEADWAY`]
+/// further away than a still one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Damper {
     /// Approach speed allowed at the influence distance (m/s).
@@ -197,13 +201,33 @@ pub struct Damper {
     pub influence: f64,
 }
 
+/// Time headway of the velocity damper (s): the damper settles a pair
+/// whose obstacle closes in at `v` at `band + v · DAMPER_HEADWAY` instead
+/// of the band.
+///
+/// Without it a pair settles at the band whatever the obstacle's speed, so
+/// an obstacle pressing on at 0.25 m/s leaves `(band − safetyDistance) / v`
+/// ≈ 40 ms until the safety distance; the stop time caps every joint's
+/// speed to what it can shed in that time
+/// ([`super::limits::cap_for_stop_time`]), the null-space motion that was
+/// keeping a held end effector in place no longer fits in the box, and the
+/// end effector gives way, then the arm stops and is run into. 0.1 s keeps
+/// the box open at the speeds of a person's arm (measured in
+/// `crate/tests/hold_drift.rs`: the Panda holding its flange while a ball
+/// is driven at its elbow at 0.25 m/s drifted 5.2 mm and stopped before a
+/// contact at rest; with the headway it drifts 0.05 mm and stays 3 cm
+/// clear). A still obstacle (the reach problems' boxes) is unaffected.
+pub const DAMPER_HEADWAY: f64 = 0.1;
+
 impl Damper {
     /// The damper's bound on the arm's approach speed (m/s).
     #[must_use]
     pub fn bound(&self, distance: f64, obstacle_speed: f64) -> f64 {
-        let span = (self.influence - self.band).max(1e-9);
-        let x = (distance - self.band) / span;
-        let b = self.gain * x - obstacle_speed.max(0.0) * (1.0 - x).min(1.0);
+        let v = obstacle_speed.max(0.0);
+        let band = (self.band + v * DAMPER_HEADWAY).min(0.5 * (self.influence + self.band));
+        let span = (self.influence - band).max(1e-9);
+        let x = (distance - band) / span;
+        let b = self.gain * x - v * (1.0 - x).min(1.0);
         b.max(-self.gain)
     }
 }
@@ -450,6 +474,24 @@ pub const GUARD_TOLERANCE: f64 = 1e-9;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_damper_keeps_a_closing_obstacle_a_headway_further() {
+        let d = Damper {
+            gain: 0.5,
+            band: 0.02,
+            influence: 0.3,
+        };
+        // A still obstacle: zero at the band, the gain at the influence.
+        assert!(d.bound(0.02, 0.0).abs() < 1e-12);
+        assert!((d.bound(0.3, 0.0) - 0.5).abs() < 1e-12);
+        // Closing in at 0.25 m/s: the arm keeps pace 2.5 cm further out.
+        let settled = 0.02 + 0.25 * DAMPER_HEADWAY;
+        assert!((d.bound(settled, 0.25) + 0.25).abs() < 1e-12);
+        assert!((d.bound(0.3, 0.25) - 0.5).abs() < 1e-12);
+        // Never past halfway to the influence distance.
+        assert!((d.bound(0.16, 5.0) + 0.5).abs() < 1e-12);
+    }
 
     #[test]
     fn bound_vanishes_at_the_safety_distance() {
