@@ -10,23 +10,14 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
-
 use glam::{DQuat, DVec3};
 use skeleton_avoidance::dependability::EventKind;
 use skeleton_avoidance::scenario::{Scenario, audit};
 use skeleton_avoidance::world::World;
 
-/// The Panda's "ready" pose.
-const READY: [f64; 7] = [
-    0.0,
-    -FRAC_PI_4,
-    0.0,
-    -3.0 * FRAC_PI_4,
-    0.0,
-    FRAC_PI_2,
-    FRAC_PI_4,
-];
+#[path = "common/poses.rs"]
+mod poses;
+use poses::PANDA_READY as READY;
 
 /// What a run did, sampled at every step.
 #[derive(Debug)]

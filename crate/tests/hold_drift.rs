@@ -24,8 +24,6 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
-
 use glam::{DQuat, DVec3};
 use skeleton_avoidance::distance::{PrimitiveSpec, SphereSpec};
 use skeleton_avoidance::kinematics::{Robot, presets};
@@ -35,15 +33,10 @@ use skeleton_avoidance::scenario::{
 use skeleton_avoidance::skeleton::Skeleton;
 use skeleton_avoidance::world::World;
 
-const PANDA_READY: [f64; 7] = [
-    0.0,
-    -FRAC_PI_4,
-    0.0,
-    -3.0 * FRAC_PI_4,
-    0.0,
-    FRAC_PI_2,
-    FRAC_PI_4,
-];
+#[path = "common/poses.rs"]
+mod poses;
+use poses::PANDA_READY;
+
 const IIWA_BENT: [f64; 7] = [0.0, 0.7, 0.0, -1.4, 0.0, 1.0, 0.0];
 const BALL: f64 = 0.05;
 const DT: f64 = 0.002;

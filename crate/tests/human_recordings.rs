@@ -9,6 +9,10 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use skeleton_avoidance::human::track::{ImportedTrack, TrackOptions, import};
 
+#[path = "common/kinect2.rs"]
+mod kinect2;
+use kinect2::KINECT2;
+
 /// The recordings, read at compile time (the same bytes natively and in wasm).
 fn read(name: &str) -> &'static str {
     match name {
@@ -21,30 +25,6 @@ fn read(name: &str) -> &'static str {
         other => panic!("no recording {other}"),
     }
 }
-
-/// Kinect v2 joint `JointType` index → the `kinect32` keypoint that names
-/// the same joint (Azure Kinect numbers them differently: mapped by name).
-const KINECT2: [(usize, &str); 19] = [
-    (0, "pelvis"),
-    (1, "spineNavel"),
-    (2, "neck"),
-    (3, "head"),
-    (4, "leftShoulder"),
-    (5, "leftElbow"),
-    (6, "leftWrist"),
-    (7, "leftHand"),
-    (8, "rightShoulder"),
-    (9, "rightElbow"),
-    (10, "rightWrist"),
-    (11, "rightHand"),
-    (12, "leftHip"),
-    (13, "leftKnee"),
-    (14, "leftAnkle"),
-    (15, "leftFoot"),
-    (16, "rightHip"),
-    (17, "rightKnee"),
-    (18, "rightAnkle"),
-];
 
 /// A Kinect v2 body recording (ticks, then 25 × x, y, z, state) as a
 /// `kinect32` JSON track (y up; untracked joints missing).

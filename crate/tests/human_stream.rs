@@ -17,28 +17,9 @@ use skeleton_avoidance::parsers::track::Layout;
 use skeleton_avoidance::scenario::{Scenario, ShapeSpec};
 use skeleton_avoidance::world::{HAND_SPEED, HumanFrame, World};
 
-/// Kinect v2 `JointType` → `kinect32` name (by name; the indices differ).
-const KINECT2: [(usize, &str); 19] = [
-    (0, "pelvis"),
-    (1, "spineNavel"),
-    (2, "neck"),
-    (3, "head"),
-    (4, "leftShoulder"),
-    (5, "leftElbow"),
-    (6, "leftWrist"),
-    (7, "leftHand"),
-    (8, "rightShoulder"),
-    (9, "rightElbow"),
-    (10, "rightWrist"),
-    (11, "rightHand"),
-    (12, "leftHip"),
-    (13, "leftKnee"),
-    (14, "leftAnkle"),
-    (15, "leftFoot"),
-    (16, "rightHip"),
-    (17, "rightKnee"),
-    (18, "rightAnkle"),
-];
+#[path = "common/kinect2.rs"]
+mod kinect2;
+use kinect2::KINECT2;
 
 /// The Kinect "come here" recording as `kinect32` frames in the robot's
 /// world: z up, turned to face −x, standing on the floor 0.95 m in front

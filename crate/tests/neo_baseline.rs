@@ -14,18 +14,9 @@ use serde_json::json;
 use skeleton_avoidance::scenario::{Scenario, Trace, audit};
 use skeleton_avoidance::world::World;
 
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
-
-/// The Panda's "ready" pose.
-const READY: [f64; 7] = [
-    0.0,
-    -FRAC_PI_4,
-    0.0,
-    -3.0 * FRAC_PI_4,
-    0.0,
-    FRAC_PI_2,
-    FRAC_PI_4,
-];
+#[path = "common/poses.rs"]
+mod poses;
+use poses::PANDA_READY as READY;
 
 /// The Panda's flange in the ready pose.
 fn ready_pose() -> (DVec3, DQuat) {
