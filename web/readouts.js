@@ -101,8 +101,9 @@ function staleLine(u) {
 
 /**
  * The text over the view: time and state, clearance, time to collision, the
- * protective bound in force for the nearest human part, control points (with
- * the arm's effective mass towards their obstacle).
+ * protective bound in force for the nearest human part (with the arm's
+ * effective mass towards it; every control point's is in the state), control
+ * points.
  */
 export function hudLines(s, running, influence) {
   const ttc = s.timeToCollision;
@@ -122,7 +123,11 @@ export function hudLines(s, running, influence) {
   const p = s.protection;
   if (p) {
     const bound = p.active === 'pfl' ? p.contact.speed : p.ssmBound;
-    const mass = p.contact ? `  arm ${p.contact.armMass.toFixed(1)} kg` : '';
+    // The arm's effective mass towards that part: power and force
+    // limiting's own, else the nearest control point's on that part.
+    const cpMass = s.controlPoints.find((cp) => cp.part === p.part && Number.isFinite(cp.effectiveMass))?.effectiveMass;
+    const armMass = p.contact?.armMass ?? cpMass;
+    const mass = armMass === undefined ? '' : `  arm ${armMass.toFixed(1)} kg`;
     lines.push(`protection ${p.active} ${p.region}  ≤ ${Math.max(0, bound).toFixed(2)} m/s${mass}`);
   }
   for (const u of s.uncertainty ?? []) {
@@ -133,7 +138,6 @@ export function hudLines(s, running, influence) {
   s.controlPoints.slice(0, 3).forEach((cp, i) => {
     let text = `cp${i + 1} link ${cp.link}  d' ${cp.d.toFixed(3)}  a' ${cp.a.toFixed(3)} m${cp.part ? `  ← ${cp.part}` : ''}`;
     if (cp.sigma) text += `  ±${ms(Math.max(cp.sigma.d, cp.sigma.a))}`;
-    if (Number.isFinite(cp.effectiveMass)) text += `  m ${cp.effectiveMass.toFixed(1)} kg`;
     if (cp.transitioning && cp.target) text += `\n    → link ${cp.target.link} (${cp.target.d.toFixed(3)}, ${cp.target.a.toFixed(3)})`;
     lines.push(text);
   });
