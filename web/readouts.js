@@ -128,7 +128,7 @@ export function hudLines(s, running, influence) {
     const cpMass = s.controlPoints.find((cp) => cp.part === p.part && Number.isFinite(cp.effectiveMass))?.effectiveMass;
     const armMass = p.contact?.armMass ?? cpMass;
     const mass = armMass === undefined ? '' : `  arm ${armMass.toFixed(1)} kg`;
-    lines.push(`protection ${p.active} ${p.region}  ≤ ${Math.max(0, bound).toFixed(2)} m/s${mass}`);
+    lines.push(`${p.active} ${p.region} ≤ ${Math.max(0, bound).toFixed(2)} m/s${mass}`);
   }
   for (const u of s.uncertainty ?? []) {
     if (u.switchProbability > 0) lines.push(`${u.obstacle}: switch p ${u.switchProbability.toFixed(2)}  σ ${ms(u.sigma)}`);
