@@ -135,6 +135,7 @@ pub(crate) struct Closest {
 
 impl Closest {
     /// The pair `pa`, `pb` at their Euclidean distance.
+    #[inline(always)]
     pub fn between(pa: DVec3, pb: DVec3, unique: bool) -> Self {
         let v = pb - pa;
         let d = v.length();
@@ -166,6 +167,7 @@ impl Closest {
     }
 
     /// Grows the cores by radii `ra` and `rb`.
+    #[inline(always)]
     pub fn inflate(self, ra: f64, rb: f64) -> Distance {
         let mut n = self.n;
         let mut unique = self.unique;
@@ -228,6 +230,7 @@ impl Core<'_> {
 
 /// A primitive's core and radius; a tapered capsule uses its larger radius
 /// (callers treat tapered capsules with different radii themselves).
+#[inline(always)]
 pub(crate) fn core_of(p: &Primitive) -> (Core<'_>, f64) {
     let seg = |s: &LineSegment| {
         if s.a == s.b {

@@ -9,6 +9,7 @@ use super::{Closest, Plane};
 /// Fraction along `a`–`b` of the point closest to `p` (0 for a zero-length
 /// segment).
 #[must_use]
+#[inline(always)]
 pub(crate) fn segment_parameter(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     let d = b - a;
     let l2 = d.length_squared();
@@ -20,6 +21,7 @@ pub(crate) fn segment_parameter(p: DVec3, a: DVec3, b: DVec3) -> f64 {
 }
 
 /// Point `p` against the segment `a`–`b`.
+#[inline(always)]
 pub(crate) fn point_segment(p: DVec3, a: DVec3, b: DVec3) -> Closest {
     let t = segment_parameter(p, a, b);
     Closest::between(p, a + (b - a) * t, true)
