@@ -126,3 +126,58 @@ test('bad frames are refused naming the field and change nothing', () => {
   bad('person', undefined, /frame/);
   w.free();
 });
+
+test('a dropout grows the hand\'s margin at 2.0 m/s and the arm keeps clear of the grown region', () => {
+  const fr = frames();
+  const { shape } = imported(fr);
+  const w = new sa.World(scenario(still(shape), 0));
+  const joints = sa.robotPreset('panda').joints;
+  // Frames stop coming from 2.0 s to 2.5 s, and from 3.5 s on.
+  const dropped = (t) => (t >= 2.0 && t < 2.5) || t >= 3.5;
+  let next = 0;
+  let last = 0;
+  let atHalfSecond = 0;
+  let movingSteps = 0;
+  let personChecks = 0;
+  let nearest = Infinity;
+  for (let k = 0; k < 550; k++) {
+    const now = k * 0.01;
+    while (next < fr.length && fr[next].t <= now + 1e-12) {
+      if (!dropped(fr[next].t)) {
+        w.pushHumanFrame('person', fr[next]);
+        last = fr[next].t;
+      }
+      next++;
+    }
+    const before = w.state();
+    if (Math.max(...before.qdot.map(Math.abs)) > 1e-9) {
+      movingSteps++;
+      // A control point answering the person measures to the grown region.
+      for (const cp of before.controlPoints.filter((c) => c.obstacle === 'person')) {
+        personChecks++;
+        nearest = Math.min(nearest, cp.distance);
+        assert.ok(cp.distance >= -1e-9, `t ${now}: ${cp.part} ${cp.distance}`);
+      }
+    }
+    before.q.forEach((q, i) => {
+      assert.ok(q >= joints[i].min - 1e-9 && q <= joints[i].max + 1e-9, `t ${now}: q[${i}] ${q}`);
+      assert.ok(Math.abs(before.qdot[i]) <= joints[i].maxVelocity + 1e-9, `t ${now}: qdot[${i}] ${before.qdot[i]}`);
+    });
+    w.step(0.01);
+    const age = now - last;
+    if (age > 0 && k > 0) {
+      const margins = w.state().uncertainty.find((u) => u.obstacle === 'person')?.partMargins;
+      assert.ok(margins, `t ${now}: the stale person's part margins`);
+      const expected = 2.0 * age;
+      assert.ok(Math.abs(margins.leftHand / expected - 1) < 0.01, `t ${now}: hand margin ${margins.leftHand} vs ${expected}`);
+      if (Math.abs(age - 0.5) < 0.02) atHalfSecond++;
+    }
+  }
+  assert.ok(atHalfSecond >= 1, 'the hand\'s margin was checked at a 0.5 s dropout');
+  // The arm works near the grown hand: control points answer the person
+  // while it moves, within the influence distance.
+  assert.ok(movingSteps > 0 && personChecks > 0, `${movingSteps} moving steps, ${personChecks} checks`);
+  assert.ok(nearest < 0.35, `nearest ${nearest}`);
+  assert.ok(w.state().events.some((e) => e.kind === 'staleSensing'), 'staleSensing reported');
+  w.free();
+});
