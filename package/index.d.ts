@@ -30,6 +30,16 @@ export interface Pose {
   rotation?: Quat | undefined;
 }
 
+/** Radii of a row's segments (m): one value or `[r0, r1]` from the segment's start to its end. */
+export interface SegmentRadii {
+  /** The segment along the row's `d` translation. */
+  d?: number | [number, number] | undefined;
+  /** The segment along the row's `a` translation. */
+  a?: number | [number, number] | undefined;
+  /** The segment behind the start of the `a` spine (the row's `extension`). */
+  extension?: number | [number, number] | undefined;
+}
+
 /** One DH row. */
 export interface JointSpec {
   /** Link length (m); `a_{i-1}` in the modified convention. */
@@ -52,8 +62,11 @@ export interface JointSpec {
   maxJerk?: number | undefined;
   /** N·m or N, > 0. */
   maxTorque?: number | undefined;
-  /** Radius of the link's volume (m), or `[r0, r1]` tapered along each segment; default 0.05. */
-  radius?: number | [number, number] | undefined;
+  /**
+   * Radius of the link's volume (m), or `[r0, r1]` tapered along each segment, or one of these
+   * per segment (`d`, `a`, `extension`: the row's spines; one left out gets 0.05); default 0.05.
+   */
+  radius?: number | [number, number] | SegmentRadii | undefined;
   /** Spine behind the joint (m, ≥ 0): counterbalances, motors. */
   extension?: number | undefined;
   /** The body this row moves (the link and what is fixed to it), in the row's DH frame; needed for dynamics. */

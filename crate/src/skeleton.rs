@@ -10,7 +10,7 @@
 
 use glam::DVec3;
 
-use crate::kinematics::{Convention, Frames, JointType, Robot};
+use crate::kinematics::{Convention, Frames, JointType, LinkRadii, Robot};
 
 /// Which translation of its DH row a segment spans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -117,7 +117,13 @@ impl Skeleton {
             };
             let mut current = start_node;
             if first_len >= NODE_TOLERANCE {
-                current = self.push(current, frames.mids[i], link, first_part, joint.radius);
+                current = self.push(
+                    current,
+                    frames.mids[i],
+                    link,
+                    first_part,
+                    part_radius(&joint.radius, first_part),
+                );
             }
             // The a spine starts at the mid node (standard) or at the row's start (modified).
             if joint.extension >= NODE_TOLERANCE {
@@ -127,7 +133,13 @@ impl Skeleton {
                 };
                 let sign = if joint.a < 0.0 { -1.0 } else { 1.0 };
                 let tip = self.nodes[from] - sign * joint.extension * x;
-                self.push(from, tip, link, SpinePart::Extension, joint.radius);
+                self.push(
+                    from,
+                    tip,
+                    link,
+                    SpinePart::Extension,
+                    joint.radius.extension,
+                );
             }
             if second_len >= NODE_TOLERANCE {
                 current = self.push(
@@ -135,7 +147,7 @@ impl Skeleton {
                     frames.transforms[link].translation,
                     link,
                     second_part,
-                    joint.radius,
+                    part_radius(&joint.radius, second_part),
                 );
             }
             self.frame_nodes[link] = current;
@@ -243,6 +255,16 @@ impl Skeleton {
     #[must_use]
     pub fn radius_at(s: &Segment, t: f64) -> f64 {
         s.radius[0] + (s.radius[1] - s.radius[0]) * t
+    }
+}
+
+/// The radii `[r0, r1]` a row gives its segment spanning `part`.
+#[must_use]
+pub fn part_radius(radii: &LinkRadii, part: SpinePart) -> [f64; 2] {
+    match part {
+        SpinePart::D => radii.d,
+        SpinePart::A => radii.a,
+        SpinePart::Extension => radii.extension,
     }
 }
 

@@ -205,6 +205,28 @@ fn pr2_volumes_cover_the_meshes_and_the_builtin_set_is_current() {
     );
 }
 
+/// The PR2's arm is counterbalanced by springs its URDF does not model: the
+/// problems' arm carries no inertial data, so the world's torque limits do
+/// not hold it still under the links' weight; it moves towards its goal.
+#[test]
+fn pr2_problems_arm_moves_without_the_uncounterbalanced_weight() {
+    let p = &reach::problems("pr2", None).unwrap()[0];
+    let spec = p.scenario.robot.spec().unwrap();
+    assert!(spec.joints.iter().all(|j| j.inertial.is_none()));
+    let mut world = World::new(p.scenario.clone()).unwrap();
+    let q0 = world.q().to_vec();
+    for _ in 0..100 {
+        world.step(p.scenario.dt);
+    }
+    let moved = world
+        .q()
+        .iter()
+        .zip(&q0)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(moved > 0.01, "{moved}");
+}
+
 /// Each MotionBenchMaker goal is the Panda preset's flange at the goal
 /// configuration; cylinders become capsules, every scenario is accepted.
 #[test]

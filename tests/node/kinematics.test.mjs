@@ -141,3 +141,15 @@ test('bad input throws an Error naming the field', () => {
   throwsWith(() => sa.controlPoint(robot, [0, 0, 0, 0, 0, 0, 0], { link: 3, d: 0.5, a: 0 }), /^point\.d: 0\.5 is outside the link's span/);
   throwsWith(() => sa.forwardKinematics(42, [0]), /^robot: expected a robot spec object/);
 });
+
+test('a row radius per segment: { d?, a?, extension? }, the old forms unchanged', () => {
+  const row = (radius) => ({ convention: 'standard', joints: [{ a: 0.3, alpha: 0, d: 0.2, theta: 0, extension: 0.1, radius }] });
+  const radii = (radius) => sa.skeleton(row(radius), [0]).segments.map((s) => [s.part, s.radius]);
+  assert.deepEqual(radii([0.07, 0.04]), [['d', [0.07, 0.04]], ['extension', [0.07, 0.04]], ['a', [0.07, 0.04]]]);
+  assert.deepEqual(radii(0.07), [['d', [0.07, 0.07]], ['extension', [0.07, 0.07]], ['a', [0.07, 0.07]]]);
+  // A part left out gets 0.05.
+  assert.deepEqual(radii({ d: [0.1, 0.2], a: 0.03 }), [['d', [0.1, 0.2]], ['extension', [0.05, 0.05]], ['a', [0.03, 0.03]]]);
+  const throwsWith = (fn, re) => assert.throws(fn, (e) => e instanceof Error && re.test(e.message));
+  throwsWith(() => sa.skeleton(row({ d: [0.1, -0.2] }), [0]), /^joints\[0\]\.radius\.d\[1\]: /);
+  throwsWith(() => sa.skeleton(row({ b: 0.1 }), [0]), /^joints\[0\]\.radius: expected a number, \[r0, r1\] or \{ d\?, a\?, extension\? \}/);
+});

@@ -139,6 +139,8 @@ fn time_to_close(error: f64, a: f64, j: f64) -> f64 {
 /// closes velocity error `e` in exactly `tau` (the inverse of
 /// [`time_to_close`] for limits `s A`, `s J`): joints with the same ratio
 /// `A/J` then follow profiles of the same shape, scaled by their errors.
+/// A cap of zero on the acceleration (`A = 0`, `tau` infinite: the torque
+/// limits leave no acceleration at all) has no share to scale: 1.
 fn share_for(e: f64, a: f64, j: f64, tau: f64) -> f64 {
     let c = a / j;
     let s = if tau >= 2.0 * c {
@@ -146,6 +148,9 @@ fn share_for(e: f64, a: f64, j: f64, tau: f64) -> f64 {
     } else {
         4.0 * e.abs() / (j * tau * tau)
     };
+    if s.is_nan() {
+        return 1.0;
+    }
     s.clamp(1e-6, 1.0)
 }
 
@@ -315,6 +320,20 @@ mod tests {
             }
         }
         (q, m)
+    }
+
+    #[test]
+    fn a_zero_acceleration_cap_holds_the_velocity_without_nan() {
+        let r = robot("lwr4");
+        let n = r.dof();
+        let options = StepOptions {
+            max_acceleration: 0.0,
+            synchronise: true,
+        };
+        let mut m = JointMotion::rest(n);
+        step_with(&r, &vec![0.1; n], &vec![0.5; n], &mut m, 0.005, &options);
+        assert_eq!(m.qdot, vec![0.0; n]);
+        assert_eq!(m.qddot, vec![0.0; n]);
     }
 
     #[test]

@@ -6,10 +6,10 @@
 //! in the world frame at `q`, each rigidly attached to the frame of one DH
 //! row (a URDF link moved by joint `k` is attached to row `k`).
 //!
-//! [`fit_volumes`] sets, per row, the tapered radii `[r0, r1]` (and, where a
-//! part reaches behind the start of the row's `a` spine, an `extension`) so
-//! that every vertex of every body lies inside the skeleton volumes that
-//! move rigidly with that body, as tight as the model allows:
+//! [`fit_volumes`] sets, per skeleton segment, the tapered radii `[r0, r1]`
+//! (and, where a part reaches behind the start of the row's `a` spine, an
+//! `extension`) so that every vertex of every body lies inside the skeleton
+//! volumes that move rigidly with that body, as tight as the model allows:
 //! 1. The segments rigid with frame `k` are found numerically: both end
 //!    points keep their coordinates in frame `k` when `q` changes (for a
 //!    revolute row `k` this is its own `a` spine and the next row's `d`
@@ -18,18 +18,22 @@
 //!    `t` its fraction along the spine and `δ` its distance from it, the
 //!    volume contains it when `(1 − t) r0 + t r1 ≥ δ` (the ball at the
 //!    nearest spine point; the round cone holds that ball).
-//! 3. Per row, `(r0, r1)` minimises the volume of the row's round cones
+//! 3. Per segment, `(r0, r1)` minimises the volume of its round cone
 //!    (frustum plus end balls, a convex function) over those half-planes:
 //!    for each `r0` the least feasible `r1` is explicit, and the convex
-//!    one-dimensional remainder is minimised by golden-section search.
+//!    one-dimensional remainder is minimised by golden-section search. A
+//!    row with one segment gets `radius: [r0, r1]`, a row with more the
+//!    per-segment form `{ d, a, extension }` (a segment no vertex goes to
+//!    keeps its radius).
 //! 4. Extensions: per row, a few lengths up to the farthest vertex behind
 //!    the `a` spine's start are tried; the one with the least total volume
 //!    is kept (zero when none helps).
 //!
-//! The model's limits, stated: one radius pair per row is shared by all of
-//! the row's segments (`d`, `a`, extension), volumes are round cones around
-//! the DH spine, and a part that is not around its spine (a flange off to
-//! one side) makes its cone wide. Rows whose frame carries no body keep
+//! The model's limits, stated: one radius pair per segment (a part whose
+//! width changes more than linearly along its spine, wide at both ends and
+//! narrow between, keeps the wider ends' cone), volumes are round cones
+//! around the DH spine, and a part that is not around its spine (a flange
+//! off to one side) makes its cone wide. Rows whose frame carries no body keep
 //! their radii. Fitting is done at `q`; for a prismatic row the rigid sets
 //! exclude its changing `d` spine.
 //!
@@ -52,9 +56,11 @@ pub use robot_meshes::{UrdfFit, fit_urdf, urdf_bodies};
 use glam::DVec3;
 
 use crate::error::FieldError;
-use crate::kinematics::{Robot, RobotSpec};
+use crate::kinematics::{
+    DEFAULT_RADIUS, LinkRadii, RadiusSpec, Robot, RobotSpec, SegmentRadius, SegmentRadiusSpec,
+};
 use crate::mesh::TriMesh;
-use crate::skeleton::Skeleton;
+use crate::skeleton::{Skeleton, SpinePart, part_radius};
 
 /// A mesh rigidly attached to the frame of one DH row.
 #[derive(Clone, Debug, PartialEq)]
@@ -138,7 +144,7 @@ fn unique_vertices(m: &TriMesh) -> Vec<DVec3> {
         .collect()
 }
 
-/// Per row: constraints `(t, δ)` and the lengths of its segments.
+/// Per segment: constraints `(t, δ)` and its length.
 struct RowProblem {
     constraints: Vec<(f64, f64)>,
     lengths: Vec<f64>,
@@ -206,46 +212,87 @@ fn fit_once(
     let frames = robot.forward(q)?;
     let skeleton = Skeleton::build(&robot, &frames);
     let rigid = rigid_segments(&robot, q)?;
-    let rows = robot.dof();
-    let mut problems: Vec<RowProblem> = (0..rows)
-        .map(|_| RowProblem {
-            constraints: Vec::new(),
-            lengths: Vec::new(),
+    // One problem per segment: each gets its own pair.
+    let mut problems: Vec<RowProblem> = skeleton
+        .segments
+        .iter()
+        .map(|s| {
+            let (a, b) = skeleton.endpoints(s);
+            RowProblem {
+                constraints: Vec::new(),
+                lengths: vec![(b - a).length()],
+            }
         })
         .collect();
-    for s in &skeleton.segments {
-        let (a, b) = skeleton.endpoints(s);
-        problems[s.link - 1].lengths.push((b - a).length());
-    }
     for (link, points) in bodies {
         let candidates = rigid.get(*link).map_or(&[][..], Vec::as_slice);
-        if candidates.is_empty() {
-            continue;
-        }
         for p in points {
             let best = candidates
                 .iter()
                 .map(|&i| {
-                    let s = &skeleton.segments[i];
-                    let (a, b) = skeleton.endpoints(s);
+                    let (a, b) = skeleton.endpoints(&skeleton.segments[i]);
                     let (t, d) = spine(*p, a, b);
-                    (s.link, t, d)
+                    (i, t, d)
                 })
                 .min_by(|x, y| x.2.total_cmp(&y.2));
-            if let Some((row, t, d)) = best {
-                problems[row - 1].constraints.push((t, d));
+            if let Some((i, t, d)) = best {
+                problems[i].constraints.push((t, d));
             }
         }
     }
     let mut out = spec.clone();
     let mut total = 0.0;
-    for (i, p) in problems.iter().enumerate() {
-        if let Some((r, v)) = p.solve() {
-            out.joints[i].radius = Some(crate::kinematics::RadiusSpec::Tapered(r));
-            total += v;
+    for (row, joint) in robot.joints.iter().enumerate().take(spec.joints.len()) {
+        let mut fitted = LinkRadii::same([DEFAULT_RADIUS; 2]);
+        let mut parts = Vec::new();
+        let mut any = false;
+        for (i, s) in skeleton.segments.iter().enumerate() {
+            if s.link != row + 1 {
+                continue;
+            }
+            let pair = match problems[i].solve() {
+                Some((r, v)) => {
+                    total += v;
+                    any = true;
+                    r
+                }
+                None => part_radius(&joint.radius, s.part),
+            };
+            set_part(&mut fitted, s.part, pair);
+            parts.push(s.part);
+        }
+        if any {
+            out.joints[row].radius = Some(radius_spec(&fitted, &parts));
         }
     }
     Ok((out, total))
+}
+
+/// Sets the pair of `part` in `radii`.
+fn set_part(radii: &mut LinkRadii, part: SpinePart, pair: [f64; 2]) {
+    match part {
+        SpinePart::D => radii.d = pair,
+        SpinePart::A => radii.a = pair,
+        SpinePart::Extension => radii.extension = pair,
+    }
+}
+
+/// The spec form of a row's fitted radii: `[r0, r1]` when the row has one
+/// segment, one pair per segment (`parts`) otherwise.
+fn radius_spec(radii: &LinkRadii, parts: &[SpinePart]) -> RadiusSpec {
+    if let [part] = parts {
+        return RadiusSpec::Tapered(part_radius(radii, *part));
+    }
+    let pick = |p: SpinePart| {
+        parts
+            .contains(&p)
+            .then(|| SegmentRadius::Tapered(part_radius(radii, p)))
+    };
+    RadiusSpec::PerSegment(SegmentRadiusSpec {
+        d: pick(SpinePart::D),
+        a: pick(SpinePart::A),
+        extension: pick(SpinePart::Extension),
+    })
 }
 
 /// Radii (and extensions) fitted so that every vertex of `bodies` lies

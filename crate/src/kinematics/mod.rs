@@ -36,7 +36,8 @@ use glam::{DAffine3, DQuat};
 pub use frames::Frames;
 pub use spec::{
     BranchSpec, Convention, DEFAULT_LIMITS, DEFAULT_RADIUS, Joint, JointSpec, JointType, Limits,
-    LinkRef, MAX_MAGNITUDE, MAX_RADIUS, PoseSpec, RadiusSpec, RobotSpec, UNIT_QUAT_TOLERANCE,
+    LinkRadii, LinkRef, MAX_MAGNITUDE, MAX_RADIUS, PoseSpec, RadiusSpec, RobotSpec, SegmentRadius,
+    SegmentRadiusSpec, UNIT_QUAT_TOLERANCE,
 };
 
 use crate::error::FieldError;

@@ -54,8 +54,9 @@ impl Default for PoseSpec {
     }
 }
 
-/// Radius of the volume around a link's segments: one value, or `[r0, r1]`
-/// varying linearly along each segment.
+/// Radius of the volume around a link's segments: one value, `[r0, r1]`
+/// varying linearly along each segment, or one of these per segment,
+/// `{ d?, a?, extension? }` (a segment left out gets [`DEFAULT_RADIUS`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum RadiusSpec {
@@ -63,6 +64,69 @@ pub enum RadiusSpec {
     Uniform(f64),
     /// Radius at the start and at the end of each segment of the link (m).
     Tapered([f64; 2]),
+    /// A radius (one value or `[r0, r1]`) for each of the link's segments.
+    PerSegment(SegmentRadiusSpec),
+}
+
+/// One segment's radius in [`RadiusSpec::PerSegment`]: one value or
+/// `[r0, r1]` from the segment's start to its end (m).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SegmentRadius {
+    /// The same radius along the segment (m).
+    Uniform(f64),
+    /// Radius at the start and at the end of the segment (m).
+    Tapered([f64; 2]),
+}
+
+/// The radii of a row's segments, by the translation each spans (see
+/// [`crate::skeleton::SpinePart`]); a segment left out gets
+/// [`DEFAULT_RADIUS`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SegmentRadiusSpec {
+    /// The segment along the row's `d` translation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub d: Option<SegmentRadius>,
+    /// The segment along the row's `a` translation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub a: Option<SegmentRadius>,
+    /// The segment behind the start of the `a` spine (the row's `extension`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extension: Option<SegmentRadius>,
+}
+
+/// A validated row's radii, at the start and end of each of its segments
+/// (m); the same pair thrice for a spec's one-value and `[r0, r1]` forms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinkRadii {
+    /// The `d` segment's.
+    pub d: [f64; 2],
+    /// The `a` segment's.
+    pub a: [f64; 2],
+    /// The extension's.
+    pub extension: [f64; 2],
+}
+
+impl LinkRadii {
+    /// The same pair on every segment.
+    #[must_use]
+    pub const fn same(r: [f64; 2]) -> Self {
+        Self {
+            d: r,
+            a: r,
+            extension: r,
+        }
+    }
+
+    /// The largest radius of any segment (m).
+    #[must_use]
+    pub fn max(&self) -> f64 {
+        [self.d, self.a, self.extension]
+            .iter()
+            .flatten()
+            .fold(0.0, |m, r| f64::max(m, *r))
+    }
 }
 
 /// One DH row.
@@ -263,6 +327,36 @@ fn radius(field: &str, r: f64) -> Result<f64, FieldError> {
     bounded(field, non_negative(field, r)?, MAX_RADIUS)
 }
 
+/// One segment's pair from its spec form, `field` naming it.
+fn segment_radius(field: &str, r: Option<SegmentRadius>) -> Result<[f64; 2], FieldError> {
+    Ok(match r {
+        None => [DEFAULT_RADIUS; 2],
+        Some(SegmentRadius::Uniform(r)) => [radius(field, r)?; 2],
+        Some(SegmentRadius::Tapered([r0, r1])) => [
+            radius(&format!("{field}[0]"), r0)?,
+            radius(&format!("{field}[1]"), r1)?,
+        ],
+    })
+}
+
+/// A row's radii from its `radius` field (named `field`).
+fn link_radii(field: &str, r: Option<RadiusSpec>) -> Result<LinkRadii, FieldError> {
+    Ok(match r {
+        None => LinkRadii::same([DEFAULT_RADIUS; 2]),
+        Some(RadiusSpec::Uniform(r)) => {
+            LinkRadii::same(segment_radius(field, Some(SegmentRadius::Uniform(r)))?)
+        }
+        Some(RadiusSpec::Tapered(r)) => {
+            LinkRadii::same(segment_radius(field, Some(SegmentRadius::Tapered(r)))?)
+        }
+        Some(RadiusSpec::PerSegment(s)) => LinkRadii {
+            d: segment_radius(&format!("{field}.d"), s.d)?,
+            a: segment_radius(&format!("{field}.a"), s.a)?,
+            extension: segment_radius(&format!("{field}.extension"), s.extension)?,
+        },
+    })
+}
+
 pub(crate) fn pose(field: &str, p: &PoseSpec) -> Result<DAffine3, FieldError> {
     let t = finite3(&format!("{field}.position"), DVec3::from_array(p.position))?;
     for (k, c) in p.position.iter().enumerate() {
@@ -298,7 +392,7 @@ pub struct Joint {
     /// Torque (N·m) or force (N) limit.
     pub max_torque: f64,
     /// Radius at the start and end of each of the link's segments (m).
-    pub radius: [f64; 2],
+    pub radius: LinkRadii,
     /// Extension of the `a` spine behind its start (m, ≥ 0).
     pub extension: f64,
     /// The moved body's inertial parameters in the row's DH frame, when
@@ -349,14 +443,7 @@ pub(crate) fn joint(field: &str, j: &JointSpec, parent: usize) -> Result<Joint, 
     let max_acceleration = limit("maxAcceleration", j.max_acceleration, defaults.acceleration)?;
     let max_jerk = limit("maxJerk", j.max_jerk, defaults.jerk)?;
     let max_torque = limit("maxTorque", j.max_torque, defaults.torque)?;
-    let radius = match j.radius {
-        None => [DEFAULT_RADIUS; 2],
-        Some(RadiusSpec::Uniform(r)) => [radius(&format!("{field}.radius"), r)?; 2],
-        Some(RadiusSpec::Tapered([r0, r1])) => [
-            radius(&format!("{field}.radius[0]"), r0)?,
-            radius(&format!("{field}.radius[1]"), r1)?,
-        ],
-    };
+    let radius = link_radii(&format!("{field}.radius"), j.radius)?;
     let extension = match j.extension {
         Some(e) => bounded(
             &format!("{field}.extension"),

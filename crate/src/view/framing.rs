@@ -47,7 +47,7 @@ impl Reach {
         let radius = robot
             .joints
             .iter()
-            .map(|j| j.radius[0].max(j.radius[1]))
+            .map(|j| j.radius.max())
             .fold(0.0, f64::max);
         let tools: f64 = robot
             .chains
@@ -191,11 +191,7 @@ mod tests {
         let r = robot("planar3");
         let f = r.forward(&[0.0; 3]).unwrap();
         let reach = Reach::of(&r, &f);
-        let radius = r
-            .joints
-            .iter()
-            .map(|j| j.radius[0].max(j.radius[1]))
-            .fold(0.0, f64::max);
+        let radius = r.joints.iter().map(|j| j.radius.max()).fold(0.0, f64::max);
         assert!((reach.radius - (0.9 + radius)).abs() < 1e-12, "{reach:?}");
         assert_eq!(reach.center, DVec3::ZERO);
     }

@@ -13,7 +13,9 @@ const SIGNED: &[&str] = &["i8", "i16", "i32", "i64", "isize"];
 pub fn plain_reason(reason: &str) -> String {
     if let Some(rest) = reason.strip_prefix("data did not match any variant of untagged enum ") {
         return match rest.trim() {
-            "RadiusSpec" => "expected a number or [r0, r1]".to_owned(),
+            "RadiusSpec" => {
+                "expected a number, [r0, r1] or { d?, a?, extension? } of these".to_owned()
+            }
             _ => "not one of the accepted forms of this field".to_owned(),
         };
     }

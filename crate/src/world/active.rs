@@ -252,6 +252,19 @@ fn record(
     });
 }
 
+/// The radius at the start of the segment a pinned point lies on: the `a`
+/// segment's when it is cut along `a` (behind the start: the extension's),
+/// the `d` segment's otherwise.
+fn pinned_radius(radii: &crate::kinematics::LinkRadii, p: &DhPoint) -> f64 {
+    if p.a > 0.0 {
+        radii.a[0]
+    } else if p.a < 0.0 {
+        radii.extension[0]
+    } else {
+        radii.d[0]
+    }
+}
+
 /// Where the tracked point `key` is (DH values) and the radius of the
 /// arm's volume there; `None` for a pinned point the configuration no
 /// longer has, or a key no longer tracked.
@@ -266,7 +279,7 @@ fn tracked_point(now: Now<'_>, key: &Key) -> Result<Option<(DhPoint, f64)>, Fiel
         };
         (
             p.clamped(&now.data.frames),
-            now.model.robot.joints[p.link - 1].radius[0],
+            pinned_radius(&now.model.robot.joints[p.link - 1].radius, p),
         )
     } else {
         let pt = tr.mover.point();

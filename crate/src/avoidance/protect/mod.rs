@@ -64,6 +64,7 @@ use crate::kinematics::{Frames, Robot};
 use crate::skeleton::Skeleton;
 
 mod bounds;
+mod curvature;
 pub mod pfl;
 mod project;
 
@@ -310,9 +311,9 @@ impl GuardBounds {
     /// The protective bound and the damper's bound (`+∞` without a
     /// damper) of pair `p`, both at least `floor`; a static or receding
     /// obstacle asks for no retreat faster than `withdraw_speed`.
-    fn of(&self, p: &GuardPair) -> (f64, f64) {
+    fn of(&self, p: &GuardPair, reserve: f64) -> (f64, f64) {
         let config = self.config;
-        let mut bound = config.bound(p.distance, p.obstacle_speed, self.braking);
+        let mut bound = config.bound(p.distance - reserve, p.obstacle_speed, self.braking);
         if p.obstacle_speed <= 0.0 {
             bound = bound.max(-config.withdraw_speed);
         }
@@ -372,12 +373,21 @@ pub fn guards(
     let mut ja = PointJacobians::default();
     let mut jb = PointJacobians::default();
     let mut row = Vec::with_capacity(robot.dof());
+    let bend = curvature::Bend::new(robot, ctx.q, &ctx.motion.qdot);
     for p in pairs {
         if let Err(e) = pair_row(ctx, p, (&mut ja, &mut jb), &mut row) {
             out.truncate(used);
             return Err(e);
         }
-        let (bound, soft) = bounds.of(p);
+        // The bend of the arm's own path towards a still (or receding)
+        // obstacle; an obstacle closing in is escaped, at speed if need be.
+        let reserve = match &bend {
+            Some(b) if p.obstacle_speed <= 0.0 => {
+                b.reserve(robot, ctx.frames, ctx.skeleton, p, bounds.braking)?
+            }
+            _ => 0.0,
+        };
+        let (bound, soft) = bounds.of(p, reserve);
         // A guard the joints cannot reach within their speed limits can
         // never be active, and one no joint can act on cannot be helped:
         // leave both out of the QP.
