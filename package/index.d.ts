@@ -901,6 +901,12 @@ export class World {
    * `frame.keypoints[3][1]`, `frame.confidence[2]`); a refused frame changes nothing.
    */
   pushHumanFrame(obstacleId: string, frame: HumanFrame): void;
+  /**
+   * The sensing latency of obstacle `obstacleId` (s, in [0, 2]): it is seen that long ago, and a streamed person's frames
+   * are aged from the world's time less it (a live feed sets its measured capture-to-step latency). Kept in the
+   * scenario's `sensing`. Throws naming the field (`obstacleId`, `latency`); a refused edit changes nothing.
+   */
+  setSensingLatency(obstacleId: string, latency: number): void;
   reset(): void;
   free(): void;
   /** `free()`, for `using world = new World(…)`. */

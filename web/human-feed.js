@@ -3,24 +3,32 @@
 // frame, before its steps.
 //
 // The world takes a frame by `World.pushHumanFrame(id, { t, layout,
-// keypoints, confidence })` (`t` on the world's clock: how old the frame is
-// when it arrives is the sensing latency the world models). A build of the
-// library without it gets the frame's pose as the person's shape instead
-// (`importTrack` of that one frame, then `setObstacleShape`): the person
-// follows, held still between frames, and the latency is only shown.
+// keypoints, confidence })`, `t` on the world's clock: when it was
+// captured. Its measured age on arrival (capture → pose → step, the median
+// of the last frames) is the person's sensing latency, set by
+// `World.setSensingLatency`: the world sees the person that long ago, so a
+// frame is as old as it really is and the stale margins grow only past it.
+// A build of the library without `pushHumanFrame` gets the frame's pose as
+// the person's shape instead (`importTrack` of that one frame, then
+// `setObstacleShape`): the person follows, held still between frames, and
+// the latency is only shown.
 //
 // Dragging the person moves where every later frame is placed: the move of
 // its reference point since the last frame is added to the frames' offset.
 //
 // Owns: the latest frame not yet given (one: a flood is thinned to the
 // frame rate), the person's id, the offset, the recorder, the latency and
-// rate figures. Interface: `sim`, `messages`, `changed()` (the scene was
-// edited) and `added(obstacle)` (a person to add when there is none).
+// rate figures, the sensing latency set on the world. Interface: `sim`,
+// `messages`, `changed()` (the scene was edited) and `added(obstacle)` (a
+// person to add when there is none).
 import { errorText } from './dom.js';
 import { TrackRecorder } from './keypoints.js';
 
-/** Frames per second measured over this many frames. */
+/** Frames per second, and the latency's median, measured over this many frames. */
 const RATE_WINDOW = 20;
+
+/** Largest sensing latency the world takes (s; `World.setSensingLatency`). */
+const MAX_LATENCY = 2;
 
 export class HumanFeed {
   constructor(host) {
@@ -34,6 +42,9 @@ export class HumanFeed {
     this.recording = false;
     this.arrivals = [];
     this.latencyMs = NaN;
+    this.ages = [];
+    this.sensingId = null;
+    this.sensingLatency = NaN;
     this.thinned = 0;
     this.given = 0;
   }
@@ -121,12 +132,39 @@ export class HumanFeed {
       return false;
     }
     this.lastT = t;
-    this.latencyMs = now - frame.capturedAt;
+    this.measure(sim, id, now - frame.capturedAt, speed);
     this.given += 1;
     this.placed = sim.wasm.referencePoint(shape ?? sim.shapeOf(id));
     if (this.recording) this.recorder.add(out);
     sim.edited = true;
     return true;
+  }
+
+  /**
+   * Takes one frame's end-to-end latency (`ageMs`, capture to the step,
+   * page ms) into the figure shown and the person's sensing latency: the
+   * median of the last frames', set on the world (`setSensingLatency`, on
+   * its clock: `speed` × the page's) when it moves by a millisecond or
+   * more, so that a frame is aged from when it was seen and its margins
+   * grow only past that.
+   */
+  measure(sim, id, ageMs, speed) {
+    this.ages.push(ageMs);
+    if (this.ages.length > RATE_WINDOW) this.ages.shift();
+    const sorted = [...this.ages].sort((a, b) => a - b);
+    this.latencyMs = sorted[sorted.length >> 1];
+    const latency = Math.min(MAX_LATENCY, (speed * this.latencyMs) / 1000);
+    const world = sim.world;
+    if (typeof world.setSensingLatency !== 'function' || !(latency >= 0)) return;
+    if (this.sensingId === id && Math.abs(latency - this.sensingLatency) < 1e-3) return;
+    try {
+      world.setSensingLatency(id, latency);
+    } catch (err) {
+      this.host.messages.status(`The sensing latency was refused: ${errorText(err)}`);
+      return;
+    }
+    this.sensingId = id;
+    this.sensingLatency = latency;
   }
 
   /** Starts keeping the frames given (a new recording); `false` stops. */
@@ -144,6 +182,9 @@ export class HumanFeed {
     this.lastT = -Infinity;
     this.arrivals = [];
     this.latencyMs = NaN;
+    this.ages = [];
+    this.sensingId = null;
+    this.sensingLatency = NaN;
   }
 }
 

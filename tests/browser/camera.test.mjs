@@ -129,6 +129,78 @@ test('the camera drives the person: keypoints found, the person follows, the arm
   }
 });
 
+// The arm moving: tests/data/camera/kinect-arm-up-down.mjpeg (MIT, source in
+// its README) loops two real frames of one person, the left hand raised by
+// the head, then the left arm down by the hip. While the keypoints say the
+// left wrist is above the left elbow, the scene's person's left hand is
+// high; while they say it is below, low: the highest hand seen with the
+// wrist up is above the lowest seen with it down (the fit lags the picture
+// by the latency, so the extremes are compared, not single frames). The
+// HUD's latency is the sensing latency the world was given.
+//
+// Reported, not counted, until the estimator is surer of the raised hand:
+// MoveNet Lightning scores the raised left wrist 0.46 in this picture
+// (the lowered one 0.54), below the 0.5 at which the world takes a
+// keypoint as good, so the world holds the hand at its last good place
+// (down, 0.93 m) and grows its margin, as sensing that fails safe should;
+// the keypoints alternate (wrist at image y 152 above the elbow's 212, then
+// 321 below 241) but the scene's hand stays down. A tighter crop scored it
+// lower (0.29).
+const MOVING = path.join(repo, 'tests', 'data', 'camera', 'kinect-arm-up-down.mjpeg');
+
+test('the person in the scene follows the arm of the person in the picture, up and down', { todo: 'the raised wrist scores 0.46, under the world\'s 0.5 for a good keypoint: held down' }, async () => {
+  const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 },
+    extraArgs: ['--use-fake-ui-for-media-stream', '--use-fake-device-for-media-stream', `--use-file-for-fake-video-capture=${MOVING}`] });
+  try {
+    const page = await browser.context.newPage();
+    const errors = collectErrors(page);
+    await open(page);
+    await page.click('#camera');
+    await page.waitForFunction(() => ['running', 'failed'].includes(window.playground.app.live.state), null, { timeout: 120_000 });
+    assert.equal((await look(page)).state, 'running', `camera: ${(await look(page)).message}`);
+    await page.evaluate(() => {
+      const app = window.playground.app;
+      const seen = { up: -Infinity, down: Infinity, ups: 0, downs: 0 };
+      window.armMotion = seen;
+      const watch = () => {
+        const p = app.live.lastPose;
+        const o = app.world.state().obstacles.find((x) => x.id === 'person');
+        // COCO-17: 7 the left elbow, 9 the left wrist; image y grows downwards.
+        if (p && o && p.scores[7] >= 0.3 && p.scores[9] >= 0.3) {
+          const part = o.parts[o.partNames ? o.partNames.indexOf('leftHand') : 6];
+          const z = part.type === 'sphere' ? part.center[2] : Math.max(part.a[2], part.b[2]);
+          const lift = p.points[7][1] - p.points[9][1];
+          if (lift > 0) {
+            seen.up = Math.max(seen.up, z);
+            seen.ups += 1;
+          } else {
+            seen.down = Math.min(seen.down, z);
+            seen.downs += 1;
+          }
+        }
+        if (app.live.state === 'running') requestAnimationFrame(watch);
+      };
+      watch();
+    });
+    // Both poses seen and the hand followed: up by a fifth of a metre at least.
+    await page.waitForFunction(() => window.armMotion.up > window.armMotion.down + 0.2, null, { timeout: 180_000 });
+    const motion = await page.evaluate(() => window.armMotion);
+    assert.ok(motion.ups > 0 && motion.downs > 0, JSON.stringify(motion));
+    // The latency shown is the one the world's sensing model was given.
+    await page.waitForFunction(() => Number.isFinite(window.playground.app.live.feed.sensingLatency), null, { timeout: 60_000 });
+    const figures = await page.evaluate(() => {
+      const f = window.playground.app.live.feed;
+      return { shown: f.latencyMs, set: f.sensingLatency, hud: window.playground.app.hud.textContent, speed: window.playground.app.speed?.() ?? 1 };
+    });
+    assert.ok(Math.abs(figures.set - Math.min(2, (figures.speed * figures.shown) / 1000)) < 1e-3, JSON.stringify(figures));
+    assert.match(figures.hud, /camera: pose \d+\.\d Hz \(model \d+ ms\)  latency \d+ ms/);
+    await page.screenshot({ path: path.join(artifacts, 'camera-moving-1280x800.png') });
+    assert.deepEqual(errors, []);
+  } finally {
+    await browser.close();
+  }
+});
+
 test('with the camera denied, the message says so and the scene keeps running', async () => {
   const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 }, extraArgs: ['--deny-permission-prompts', ...FAKE] });
   try {

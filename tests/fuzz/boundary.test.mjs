@@ -139,6 +139,7 @@ const METHODS = [
   ['qdot', () => []],
   ['controller', () => []],
   ['clearance', (r) => [arg(r, r.pick(['o0', 'ball', 'person']))]],
+  ['setSensingLatency', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, r.pick([0, 0.05, 0.1, 2]))], true],
   ['pushHumanFrame', (r) => [arg(r, r.pick(['o0', 'ball', 'person'])), arg(r, {
     t: r.int(50) * 0.01,
     layout: r.pick(['coco17', 'body25', 'blazepose33']),

@@ -181,3 +181,72 @@ test('a dropout grows the hand\'s margin at 2.0 m/s and the arm keeps clear of t
   assert.ok(w.state().events.some((e) => e.kind === 'staleSensing'), 'staleSensing reported');
   w.free();
 });
+
+// A live feed stamps each frame with its capture time and delivers it
+// `AGE` s later (capture → pose). Without a latency the world sees the
+// person at its own time, so every frame arrives already stale and the
+// hands' margins have grown by the age; with the measured age set as the
+// sensing latency (World.setSensingLatency) the world sees the person that
+// long ago: a frame is fresh when it arrives and its parts go stale only
+// if the next one is late. Checked on the state after each delivery.
+test('the measured latency set by setSensingLatency: a frame is aged from when it was seen, not when it arrived', () => {
+  const fr = frames();
+  const { shape } = imported(fr);
+  const AGE = 0.1;
+  const dt = 0.01;
+  const run = (latency) => {
+    const w = new sa.World(scenario(still(shape), 0));
+    if (latency !== null) w.setSensingLatency('person', latency);
+    const seen = [];
+    let next = 0;
+    for (let k = 0; k < 200; k++) {
+      const now = k * dt;
+      let arrived = false;
+      while (next < fr.length && fr[next].t + AGE <= now + 1e-12) {
+        w.pushHumanFrame('person', fr[next++]);
+        arrived = true;
+      }
+      w.step(dt);
+      if (arrived && next > 1) {
+        const u = w.state().uncertainty.find((o) => o.obstacle === 'person');
+        seen.push({ stale: u?.stale ?? {}, hand: u?.partMargins?.leftHand ?? u?.radius ?? 0 });
+      }
+    }
+    const events = w.state().events.filter((e) => e.kind === 'staleSensing');
+    w.free();
+    return { seen, events };
+  };
+  const late = run(null);
+  const timed = run(AGE);
+  assert.ok(late.seen.length >= 30 && timed.seen.length === late.seen.length, `${late.seen.length} deliveries`);
+  for (const [i, s] of late.seen.entries()) {
+    // Unset: the hand's data is at least AGE old when it arrives, its margin grown at 2.0 m/s.
+    assert.ok(s.stale.leftHand >= AGE, `delivery ${i}: left hand stale ${s.stale.leftHand} without a latency`);
+    assert.ok(s.hand >= 2.0 * AGE - 1e-9, `delivery ${i}: hand margin ${s.hand}`);
+    // Set: a delivered frame is at most the steps since its delivery old.
+    const fresh = timed.seen[i];
+    assert.ok((fresh.stale.leftHand ?? 0) <= 2 * dt + 1e-9, `delivery ${i}: left hand ${fresh.stale.leftHand} s old with the latency set`);
+    assert.ok(fresh.hand < s.hand, `delivery ${i}: hand margin ${fresh.hand} < ${s.hand}`);
+  }
+  assert.ok(late.events.some((e) => e.part === 'leftHand'), 'without a latency the hand turns stale');
+  assert.deepEqual(timed.events, [], 'with the latency set no part turns stale');
+});
+
+test('setSensingLatency refuses a bad latency or obstacle naming the field, the world unchanged', () => {
+  const { shape } = imported(frames());
+  const w = new sa.World(scenario(still(shape), 0));
+  w.setSensingLatency('person', 0.08);
+  const before = JSON.stringify([w.state(), w.q()]);
+  const bad = (id, latency, re) => {
+    assert.throws(() => w.setSensingLatency(id, latency), re);
+    assert.equal(JSON.stringify([w.state(), w.q()]), before, String(re));
+  };
+  bad('nobody', 0.1, /^Error: obstacleId: no obstacle "nobody"/);
+  bad(3, 0.1, /obstacleId/);
+  bad('person', -0.01, /^Error: latency: must be a finite number in \[0, 2\] s/);
+  bad('person', Number.NaN, /latency/);
+  bad('person', Infinity, /latency/);
+  bad('person', 2.5, /latency: must be a finite number in \[0, 2\] s/);
+  bad('person', '0.1', /latency/);
+  w.free();
+});

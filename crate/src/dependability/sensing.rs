@@ -151,6 +151,16 @@ impl SensorModel {
         self.latency
     }
 
+    /// Sets the latency of the sensed pose (s; a live sensor's measured
+    /// age of its frames). Not finite or negative counts as 0.
+    pub fn set_latency(&mut self, latency: f64) {
+        self.latency = if latency.is_finite() {
+            latency.max(0.0)
+        } else {
+            0.0
+        };
+    }
+
     /// The fixed offset of this run (m).
     #[must_use]
     pub fn bias(&self) -> DVec3 {

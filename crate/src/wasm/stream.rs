@@ -4,7 +4,7 @@
 
 use wasm_bindgen::prelude::*;
 
-use super::boundary::string_arg;
+use super::boundary::{number_arg, string_arg};
 use super::convert::object_from_js;
 use super::world::{WorldHandle, scenario_error};
 use crate::world::HumanFrame;
@@ -33,6 +33,27 @@ impl WorldHandle {
         let frame: HumanFrame = object_from_js("frame", frame)?;
         self.inner
             .push_human_frame(&id, &frame)
+            .map_err(|e| scenario_error(&e))
+    }
+
+    /// Sets the sensing latency of obstacle `obstacleId` (s, in [0, 2]):
+    /// its sensed pose is its pose this long ago; a live feed sets its
+    /// measured capture-to-pose latency here so that its frames are aged
+    /// from when they were seen, not from when they arrived.
+    ///
+    /// # Errors
+    /// `obstacleId: no obstacle "x"`, `latency: must be a finite number in
+    /// [0, 2] s, got …`; the world is unchanged.
+    #[wasm_bindgen(js_name = setSensingLatency)]
+    pub fn set_sensing_latency(
+        &mut self,
+        obstacle_id: JsValue,
+        latency: JsValue,
+    ) -> Result<(), JsError> {
+        let id = string_arg("obstacleId", &obstacle_id)?;
+        let latency = number_arg("latency", &latency)?;
+        self.inner
+            .set_sensing_latency(&id, latency)
             .map_err(|e| scenario_error(&e))
     }
 }

@@ -180,6 +180,7 @@ const WORLD_ARGS: &[(&str, &[&str])] = &[
     ("pick", &["origin", "direction"]),
     ("pickSkeleton", &["origin", "direction"]),
     ("pushHumanFrame", &["obstacleId", "frame"]),
+    ("setSensingLatency", &["obstacleId", "latency"]),
 ];
 
 /// Guards the `World` class (see `guardClass` in `boundary.js`): called once

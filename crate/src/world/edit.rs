@@ -15,6 +15,10 @@ use crate::scenario::{
     validate_controller,
 };
 
+/// Largest sensing latency an edit may set (s): the streamed frames kept
+/// ([`super::stream::STREAM_WINDOW`] at 30 Hz) cover it.
+pub const MAX_SENSING_LATENCY: f64 = 2.0;
+
 impl World {
     pub(super) fn index_of(&self, id: &str) -> Result<usize, FieldError> {
         self.state
@@ -143,6 +147,34 @@ impl World {
         let shape = super::stream::push(o, frame)?;
         self.model.scenario.obstacles[k].shape = shape;
         self.model.scenario.obstacles[k].motion = None;
+        self.state.sensed.dirty = true;
+        Ok(())
+    }
+
+    /// Sets the sensing latency of obstacle `id` (s): its sensed pose is
+    /// its pose this long ago, and a streamed person's frames are aged
+    /// against the world's time less it (`world/stream.rs`). The
+    /// scenario's sensing of `id` keeps it, so an export replays it.
+    ///
+    /// # Errors
+    /// `obstacleId: no obstacle "x"`, `latency: must be a finite number in
+    /// [0, 2] s`; the world is unchanged.
+    pub fn set_sensing_latency(&mut self, id: &str, latency: f64) -> Result<(), ScenarioError> {
+        let k = self
+            .index_of(id)
+            .map_err(|e| FieldError::new("obstacleId", e.reason))?;
+        if !(latency.is_finite() && (0.0..=MAX_SENSING_LATENCY).contains(&latency)) {
+            return Err(FieldError::new(
+                "latency",
+                format!("must be a finite number in [0, {MAX_SENSING_LATENCY}] s, got {latency}"),
+            )
+            .into());
+        }
+        let sensing = &mut self.model.scenario.sensing;
+        let mut spec = sensing.for_obstacle(id);
+        spec.latency = Some(latency);
+        sensing.obstacles.insert(id.to_owned(), spec);
+        self.state.sensed.obstacles[k].sensor.set_latency(latency);
         self.state.sensed.dirty = true;
         Ok(())
     }

@@ -75,6 +75,7 @@ mod sense;
 mod start;
 mod stream;
 
+pub use edit::MAX_SENSING_LATENCY;
 pub use run::{control_step_workload, simulate};
 pub use start::import_urdf;
 pub use stream::{
