@@ -12,8 +12,26 @@ export const LAYOUTS = { coco17: 17, body25: 25, kinect32: 32, blazepose33: 33 }
 /** At most this many keypoints in a frame (the library's bound too). */
 export const MAX_KEYPOINTS = 10_000;
 
-/** A keypoint scored below this is not taken as seen. */
+/** A keypoint scored below this is not taken as seen (MoveNet's own cut-off). */
 export const MIN_SCORE = 0.3;
+
+/** The library's confidence at and above which a keypoint is good (`GOOD_CONFIDENCE` in crate/src/world/stream.rs). */
+export const GOOD_CONFIDENCE = 0.5;
+
+/**
+ * An estimator's score as the library's confidence: the estimator's cut-off
+ * `MIN_SCORE` is mapped onto the library's `GOOD_CONFIDENCE`, linearly on
+ * either side (0 → 0, 1 → 1), so that a keypoint is good for the world
+ * exactly when the estimator counts it as seen. Without it a wrist MoveNet
+ * sees at 0.46 would be held at its last good place by the world while the
+ * page draws it where it is.
+ */
+export function calibrated(score) {
+  const s = Math.min(1, Math.max(0, score));
+  return s < MIN_SCORE
+    ? (GOOD_CONFIDENCE * s) / MIN_SCORE
+    : GOOD_CONFIDENCE + ((1 - GOOD_CONFIDENCE) * (s - MIN_SCORE)) / (1 - MIN_SCORE);
+}
 
 // COCO-17 indices.
 const SHOULDER = [5, 6];
@@ -60,7 +78,7 @@ export function metresPerPixel(points, scores, height) {
  * arm shorter in the image than its length is leaned forward by the
  * difference. Keypoints not seen are put where a person standing with the
  * arms down has them (legs below the hips, arms hanging), with their low
- * score kept as the confidence. `scale` (m/px) may be given (smoothed by
+ * score kept as the confidence (see `calibrated`). `scale` (m/px) may be given (smoothed by
  * the caller); else it is measured. Null when no person is seen.
  */
 export function liftCoco17(points, scores, height, scale = metresPerPixel(points, scores, height)) {
@@ -88,7 +106,7 @@ export function liftCoco17(points, scores, height, scale = metresPerPixel(points
   for (let k = 0; k < 5; k++) {
     if (!seen(k)) out[k] = [(out[5][0] + out[6][0]) / 2, 0, (out[5][2] + out[6][2]) / 2 + P.nose * height];
   }
-  return { keypoints: out, confidence: scores.map((c) => Math.min(1, Math.max(0, c))) };
+  return { keypoints: out, confidence: scores.map(calibrated) };
 }
 
 /** How far forward (m) a limb of `length` seen from `a` to `b` in the body's plane leans. */

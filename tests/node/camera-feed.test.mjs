@@ -7,7 +7,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { createRequire } from 'node:module';
-import { LAYOUTS, PROPORTIONS, TrackRecorder, checkFrame, liftCoco17, metresPerPixel, placeInWorld } from '../../web/keypoints.js';
+import { GOOD_CONFIDENCE, LAYOUTS, MIN_SCORE, PROPORTIONS, TrackRecorder, calibrated, checkFrame, liftCoco17, metresPerPixel, placeInWorld } from '../../web/keypoints.js';
 import { HumanFeed } from '../../web/human-feed.js';
 import { cameraProblem } from '../../web/camera.js';
 import { bridgeUrl } from '../../web/bridge-client.js';
@@ -46,7 +46,8 @@ test('2D keypoints become metres by the height; the unseen legs stand, a foresho
   const upper = { points, scores: scores.map((c, k) => (k >= 13 ? 0.05 : c)) };
   const cut = liftCoco17(upper.points, upper.scores, 1.7);
   assert.ok(Math.abs(cut.keypoints[15][2] - PROPORTIONS.ankle * 1.7) < 1e-9);
-  assert.equal(cut.confidence[15], 0.05);
+  // Its low score is kept, on the library's scale: below the world's cut-off.
+  assert.ok(Math.abs(cut.confidence[15] - (GOOD_CONFIDENCE * 0.05) / MIN_SCORE) < 1e-12, `${cut.confidence[15]}`);
   // A forearm seen at half its length leans forward by the rest.
   const reach = standing2d();
   reach.points[9] = [reach.points[7][0], reach.points[7][1] + (PROPORTIONS.forearm * 1.7 * 400) / 2];
@@ -55,6 +56,20 @@ test('2D keypoints become metres by the height; the unseen legs stand, a foresho
   assert.ok(Math.abs(lean - Math.sqrt(0.75) * PROPORTIONS.forearm * 1.7) < 1e-9, `lean ${lean}`);
   // No shoulders seen: no person.
   assert.equal(liftCoco17(points, scores.map((c, k) => (k === 5 ? 0.1 : c)).map((c, k) => (k === 11 ? 0.1 : c)), 1.7, metresPerPixel(points, scores.map((c, k) => (k === 5 || k === 11 ? 0.1 : c)), 1.7)), null);
+});
+
+test('an estimator score is good for the world exactly when the page counts it as seen', () => {
+  assert.equal(calibrated(0), 0);
+  assert.equal(calibrated(1), 1);
+  assert.equal(calibrated(MIN_SCORE), GOOD_CONFIDENCE);
+  for (let s = 0; s <= 1.0001; s += 0.01) {
+    assert.equal(calibrated(s) >= GOOD_CONFIDENCE, s >= MIN_SCORE, `score ${s}`);
+    assert.ok(calibrated(s + 0.01) >= calibrated(s), 'monotone');
+  }
+  // A raised wrist MoveNet scores 0.46 (tests/data/camera/kinect-arm-up-down.mjpeg) is good.
+  assert.ok(calibrated(0.46) >= GOOD_CONFIDENCE);
+  assert.equal(calibrated(-1), 0);
+  assert.equal(calibrated(2), 1);
 });
 
 test('placed in the world, the person faces the robot with their left on their left', () => {

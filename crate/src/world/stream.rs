@@ -58,7 +58,8 @@ pub const MAX_FRAME_KEYPOINTS: usize = 10_000;
 /// latency the world models, and little to copy into each state).
 pub const STREAM_WINDOW: usize = 120;
 
-/// A keypoint is good at this confidence and above.
+/// A keypoint is good at this confidence and above (the playground maps
+/// its estimator's own cut-off onto it: `calibrated` in web/keypoints.js).
 pub const GOOD_CONFIDENCE: f64 = 0.5;
 
 /// How fast a hand may move (m/s; ISO 13855's approach speed of the
