@@ -851,6 +851,22 @@ export function importTrack(text: string, options?: TrackOptions): { shape: Huma
 export function simulate(scenario: Scenario): Trace;
 export function exampleScenario(name: string): Scenario;
 export function exampleScenarioNames(): string[];
+
+/** A reach problem set: NEO's 198 PR2 problems, 100 seeded Panda problems, MotionBenchMaker's 700 Panda problems. */
+export type ReachSet = 'pr2' | 'panda' | 'mbm';
+/** One reach problem: the scenario (opens in the playground as it is), the goal pose of the end effector (`orientation` [x, y, z, w]), and the goal configuration where the set has one. */
+export interface ReachProblem {
+  name: string;
+  scenario: Scenario;
+  goal: { position: Vec3; orientation: Quat };
+  goalQ?: number[] | undefined;
+}
+/**
+ * The problems of a set, the same as Rust's `reach::problems(set)`; fresh objects on every call.
+ * Plain JS over the package's `problems/<set>.json` (nothing in the wasm module): Node reads the file;
+ * in a browser pass it as `data` (fetched and parsed). An unknown set throws `set: unknown problem set 'x' (pr2, panda, mbm)`.
+ */
+export function reachProblems(set: ReachSet, data?: unknown): ReachProblem[];
 /** `runs` copies of `scenario` with independent sensing seeds, reduced to distributions. */
 export function monteCarlo(scenario: Scenario, options: MonteCarloOptions): MonteCarloReport;
 /** A block of runs of a study (for a progress bar); merge the rows with `monteCarloMerge`. */

@@ -16,7 +16,7 @@ import path from 'node:path';
 import { createRequire } from 'node:module';
 import { repo, capture } from './lib.mjs';
 import { buildWasm } from './build.mjs';
-import { writeCompat } from './package-compat.mjs';
+import { writeCompat, JS_ONLY } from './package-compat.mjs';
 
 const out = path.join(repo, 'target', 'npm');
 const pkgDir = path.join(out, 'package');
@@ -46,25 +46,31 @@ function nodeStandIn(name) {
  * it is listed under `sideEffects` and bundlers keep that await).
  */
 function writeEntries(names) {
-  const nodeNames = names.filter((n) => !WEB_ONLY.includes(n));
+  const wasmNames = names.filter((n) => !JS_ONLY.includes(n));
+  const nodeNames = wasmNames.filter((n) => !WEB_ONLY.includes(n));
   fs.writeFileSync(
     path.join(pkgDir, 'index.node.js'),
     `${HEADER}import { createRequire } from 'node:module';\n` +
       `const wasm = createRequire(import.meta.url)('./node/skeleton_avoidance.js');\n` +
       nodeNames.map((n) => `export const ${n} = wasm.${n};\n`).join('') +
-      WEB_ONLY.map((n) => `export ${nodeStandIn(n)}`).join(''),
+      WEB_ONLY.map((n) => `export ${nodeStandIn(n)}`).join('') +
+      `export { reachProblems } from './reach-node.js';\n`,
   );
+  // require() of the ES module reach-node.js (Node >= 20.19, as the snippets).
   fs.writeFileSync(
     path.join(pkgDir, 'index.cjs'),
     `${HEADER}'use strict';\nconst wasm = require('./node/skeleton_avoidance.js');\n` +
+      `const { reachProblems } = require('./reach-node.js');\n` +
       WEB_ONLY.map(nodeStandIn).join('') +
-      `module.exports = {\n${nodeNames.map((n) => `  ${n}: wasm.${n},\n`).join('')}${WEB_ONLY.map((n) => `  ${n},\n`).join('')}};\n`,
+      `module.exports = {\n${nodeNames.map((n) => `  ${n}: wasm.${n},\n`).join('')}${WEB_ONLY.map((n) => `  ${n},\n`).join('')}  reachProblems,\n};\n`,
   );
   fs.writeFileSync(
     path.join(pkgDir, 'index.web.js'),
     `${HEADER}import init from './web/skeleton_avoidance.js';\n` +
+      `import { makeReachProblems } from './reach.js';\n` +
       `try {\n  await init();\n} catch (err) {\n  ${LOAD_ERROR}\n}\n` +
-      `export { ${names.join(', ')} } from './web/skeleton_avoidance.js';\n`,
+      `export { ${wasmNames.join(', ')} } from './web/skeleton_avoidance.js';\n` +
+      `export const reachProblems = makeReachProblems(null);\n`,
   );
 }
 
@@ -133,7 +139,8 @@ export function buildPackage({ build = true } = {}) {
   copy(path.join(repo, 'crate', 'pkg-node'), path.join(pkgDir, 'node'), ['skeleton_avoidance.js', 'skeleton_avoidance_bg.wasm']);
   fs.writeFileSync(path.join(pkgDir, 'node', 'package.json'), '{ "type": "commonjs" }\n');
   copy(path.join(repo, 'crate', 'pkg'), path.join(pkgDir, 'web'), ['skeleton_avoidance.js', 'skeleton_avoidance_bg.wasm']);
-  copy(src, pkgDir, ['index.d.ts', 'element.d.ts', 'package.json', 'README.md']);
+  copy(src, pkgDir, ['index.d.ts', 'element.d.ts', 'package.json', 'README.md', 'reach.js', 'reach-node.js']);
+  fs.cpSync(path.join(src, 'problems'), path.join(pkgDir, 'problems'), { recursive: true });
   // The same declarations for `require` (a .d.ts in a "type": "module" package is ESM).
   fs.copyFileSync(path.join(src, 'index.d.ts'), path.join(pkgDir, 'index.d.cts'));
   // The boundary's JS snippets (ES modules; Node ≥ 20.19 requires them).
@@ -145,7 +152,7 @@ export function buildPackage({ build = true } = {}) {
 
   const nodeModule = createRequire(import.meta.url)(path.join(pkgDir, 'node', 'skeleton_avoidance.js'));
   const webText = fs.readFileSync(path.join(pkgDir, 'web', 'skeleton_avoidance.js'), 'utf8');
-  const missing = names.filter(
+  const missing = names.filter((n) => !JS_ONLY.includes(n)).filter(
     (n) => (!(n in nodeModule) && !WEB_ONLY.includes(n)) || !new RegExp(`export (?:function|class) ${n}\\b|export \\{[^}]*\\b${n}\\b`).test(webText),
   );
   if (missing.length) {

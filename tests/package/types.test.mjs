@@ -119,6 +119,7 @@ const study = sa.exampleScenario('chattering');
 const small = { ...study, duration: 0.5 };
 add('T.MonteCarloReport', sa.monteCarlo(small, { runs: 2, seed: 1, rows: true }));
 add('T.MonteCarloRow[]', sa.monteCarloRuns(small, { seed: 1, from: 0, count: 2 }));
+for (const set of ['pr2', 'panda', 'mbm']) add('T.ReachProblem[]', sa.reachProblems(set).slice(0, 2));
 fs.writeFileSync('observed.ts', lines.join('\\n') + '\\n');
 console.log(n);
 `;

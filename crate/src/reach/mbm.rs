@@ -12,6 +12,31 @@
 //! handed to [`mbm_problems`], which builds the problems: one scene file, or
 //! an array of them.
 //!
+//! **The grasped object is left out of its problem's scene.** Every
+//! MotionBenchMaker goal is a grasp: the scene's queries file
+//! (`configs/scenes/<scene>/*queries*.yaml` in KavrakiLab/motion_bench_maker)
+//! names the object to grasp (`objects: ["Can1"]`) and the hand's offset
+//! from it, and the goal configuration puts the open gripper around that
+//! object (MotionBenchMaker's Panda holds its fingers 0.065 m from the hand
+//! axis, so in MoveIt the fingers straddle a 3 cm can without touching it).
+//! The library's Panda covers the hand and fingers with volumes that fill
+//! the gap between the fingers, so with the object in the scene every goal
+//! overlaps an obstacle and no problem can be reached strictly. The
+//! converted files name the object per problem (`grasped`: the object
+//! nearest to the point between the fingertips, 0.1034 m along
+//! `panda_link8`'s z, at the goal: inside it in 671 problems, at most 1.7 mm
+//! above a can's top in `box`, the next object at least 8 cm away; see
+//! `convert_mbm.py`). Of the two ways to honour the grasp, this one was
+//! taken: dropping the object for the whole run, rather than reproducing
+//! an allowed collision between the gripper's volumes and that object
+//! only. The library has no per-pair allowed-collision matrix (every
+//! control point avoids every obstacle), and an allowance for the gripper
+//! would still leave the arm's other links free to pass through the
+//! object; leaving it out is the simple, stated approximation. The
+//! scenes' own allowed-collision matrices (kept in the source files) list
+//! robot links only, so nothing else in MotionBenchMaker's problems is
+//! allowed to touch an obstacle.
+//!
 //! A cylinder becomes a capsule between its end faces' centres with the
 //! cylinder's radius (the library has no cylinder obstacle): it covers the
 //! cylinder and overshoots each end by the radius. The robot is the Panda
@@ -49,6 +74,7 @@ struct MbmProblem {
     start: Vec<f64>,
     goal_q: Vec<f64>,
     goal: Pose,
+    grasped: String,
     obstacles: Objects,
 }
 
@@ -92,16 +118,18 @@ struct Sphere {
     radius: f64,
 }
 
-/// The obstacles of one problem as scenario obstacles.
-fn obstacles(o: &Objects) -> Vec<Value> {
-    let boxes = o.boxes.iter().map(|b| {
+/// The obstacles of one problem as scenario obstacles, the object with the
+/// id `grasped` left out (module docs).
+fn obstacles(o: &Objects, grasped: &str) -> Vec<Value> {
+    let kept = |id: &String| id != grasped;
+    let boxes = o.boxes.iter().filter(|b| kept(&b.id)).map(|b| {
         json!({ "id": b.id, "shape": { "type": "box", "center": b.center,
                 "halfExtents": b.half_extents, "rotation": b.rotation } })
     });
-    let cylinders = o.cylinders.iter().map(|c| {
+    let cylinders = o.cylinders.iter().filter(|c| kept(&c.id)).map(|c| {
         json!({ "id": c.id, "shape": { "type": "capsule", "a": c.a, "b": c.b, "radius": c.radius } })
     });
-    let spheres = o.spheres.iter().map(|s| {
+    let spheres = o.spheres.iter().filter(|s| kept(&s.id)).map(|s| {
         json!({ "id": s.id, "shape": { "type": "sphere", "center": s.center, "radius": s.radius } })
     });
     boxes.chain(cylinders).chain(spheres).collect()
@@ -149,7 +177,7 @@ pub fn mbm_problems(json: &str, field: &str) -> Result<Vec<Problem>, FieldError>
             let scenario = scenario_json(
                 json!({ "preset": "panda" }),
                 &p.start,
-                obstacles(&p.obstacles),
+                obstacles(&p.obstacles, &p.grasped),
                 position,
                 orientation,
             )

@@ -247,16 +247,24 @@ pub fn header() -> String {
 pub fn line(scene: &str, controller: Controller, row: &Row) -> String {
     let pct = |k: usize| 100.0 * k as f64 / row.problems.max(1) as f64;
     let failures: Vec<String> = row.failures.iter().map(ToString::to_string).collect();
+    // A median over no run prints as "–", not "NaN s".
+    let secs = |t: f64| {
+        if t.is_nan() {
+            "–".to_owned()
+        } else {
+            format!("{t:.2} s")
+        }
+    };
     format!(
-        "| {scene} | {} | {} | {:.1} % ({}) | {:.1} % ({}) | {:.2} s; {:.2} s | {:.1} mm | {:.2} | {:.2} | {} | {} | {} | {:.1} |",
+        "| {scene} | {} | {} | {:.1} % ({}) | {:.1} % ({}) | {}; {} | {:.1} mm | {:.2} | {:.2} | {} | {} | {} | {:.1} |",
         controller.label(),
         row.problems,
         pct(row.strict),
         row.strict,
         pct(row.neo),
         row.neo,
-        row.strict_time,
-        row.neo_time,
+        secs(row.strict_time),
+        secs(row.neo_time),
         row.min_clearance * 1e3,
         row.peak_velocity,
         row.peak_acceleration,

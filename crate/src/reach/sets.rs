@@ -2,12 +2,22 @@
 //! (`{ name, scenario, goal: { position, orientation }, goalQ? }`: the
 //! scenario, saved as JSON, opens in the playground as it is).
 //!
-//! **Not exported to JS yet.** A `reachProblems(set, data?)` export over
-//! [`problems`] (DESIGN's planned contract) was built and measured: the web
-//! module grew from 1.793 to 1.829 MB gzipped (1.839 before the PR2 spec
-//! was read through the scenario's reader of specs), over the 1.8 MB
-//! budget; `pr2.json` accounts for 3.3 kB of it, the rest is code not yet
-//! pinned down. It stays out until that is found.
+//! **In JS: `reachProblems(set)`, plain JS over files, nothing in wasm.** An
+//! export over [`problems`] from the wasm module was built and measured
+//! first: the web module grew by 36 kB gzipped (1.793 → 1.829 MB), over the
+//! budget; measured again on 2026-11-28, 1.812 → 1.849 MB. twiggy's diff of
+//! the unoptimised modules (+119 kB) names what costs it: the built-in
+//! `pr2.json` and the sets' strings (`.rodata`, +19 kB), the serde readers
+//! monomorphised for the MotionBenchMaker scene file (`serde_path_to_error`
+//! seeds, about +35 kB), the Panda set's generator (`panda_problems`,
+//! +9.5 kB), `mbm_problems` (+8 kB), `pr2_builtin` and `pr2_problems`
+//! (+10 kB), a second `Scenario` serialiser (+4.4 kB) and
+//! `scenario_json` (+3 kB). The package ships the sets instead as JSON files
+//! (`package/problems/<set>.json`: each set's shared scenario fields once,
+//! each problem's own fields beside it), which `package/reach.js` expands;
+//! `crate/tests/reach_problem_files.rs` checks that the files are these
+//! functions' output and writes the native fixture the Node test compares
+//! with. The wasm module is unchanged.
 //!
 //! What is built in, and why: the PR2 set is `pr2.json` beside this file,
 //! the arm's spec (volumes as fitted) and the five scenes in their compact

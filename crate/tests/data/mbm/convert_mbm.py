@@ -39,6 +39,10 @@ JOINTS = [f"panda_joint{i}" for i in range(1, 8)]
 FINGERS = ["panda_finger_joint1", "panda_finger_joint2"]
 FLANGE = "panda_link8"
 LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+# The point between the Panda's fingertips, 0.1034 m along panda_link8's z:
+# franka_description's panda_hand_tcp, 0.1034 m beyond panda_hand, whose
+# origin is panda_link8's (turned 45 degrees about z).
+GRASP_POINT = 0.1034
 
 
 def urdf_chain():
@@ -91,6 +95,38 @@ def obstacle(obj, notes):
     if prim["type"] == "sphere":
         return "spheres", {"id": obj["id"], "center": centre, "radius": dims[0]}
     raise ValueError(f"object {obj['id']}: primitive {prim['type']} not converted")
+
+
+def signed_distance(point, kind, shape):
+    """Signed distance from `point` to a converted box or cylinder (< 0 inside)."""
+    p = np.asarray(point, dtype=float)
+    if kind == "boxes":
+        local = quaternion_matrix(shape["rotation"]).T @ (p - np.array(shape["center"]))
+        d = np.abs(local) - np.array(shape["halfExtents"])
+        return float(np.linalg.norm(np.maximum(d, 0.0)) + min(d.max(), 0.0))
+    if kind == "cylinders":
+        local = quaternion_matrix(shape["rotation"]).T @ (p - np.array(shape["center"]))
+        d = np.array([np.hypot(local[0], local[1]) - shape["radius"],
+                      abs(local[2]) - shape["halfLength"]])
+        return float(np.linalg.norm(np.maximum(d, 0.0)) + min(d.max(), 0.0))
+    return float(np.linalg.norm(p - np.array(shape["center"])) - shape["radius"])
+
+
+def grasped_object(t, obstacles, where):
+    """The object the hand grasps at the goal pose `t`.
+
+    Every MotionBenchMaker goal is a grasp query (the scene's queries file names
+    the object, e.g. `objects: ["Can1"]`, and an offset of the hand from it): at
+    the goal the open fingers straddle that object (in `box` they close on the
+    can's top from above: the grasp point is up to 2 mm above it). The script
+    refuses a goal whose nearest object is farther than 1 cm from the grasp
+    point, or whose second nearest is within 5 cm of it."""
+    point = t[:3, 3] + t[:3, 2] * GRASP_POINT
+    near = sorted((signed_distance(point, kind, s), s["id"])
+                  for kind, shapes in obstacles.items() for s in shapes)
+    if near[0][0] > 0.01 or (len(near) > 1 and near[1][0] < 0.05):
+        raise ValueError(f"{where}: no single grasped object ({near[:2]})")
+    return near[0][1]
 
 
 def read_archive(path):
@@ -151,6 +187,7 @@ def convert_scene(name, problems, module, chain, limits, source):
             "name": f"mbm/{name}/{index}",
             "start": start_q,
             "goalQ": goal_q,
+            "grasped": grasped_object(t, obstacles, f"{name}/{index}"),
             "goal": {"position": t[:3, 3].tolist(),
                      "rotation": module.quaternion(t[:3, :3]).tolist()},
             "obstacles": {k: v for k, v in obstacles.items() if v},
@@ -170,7 +207,8 @@ def convert_scene(name, problems, module, chain, limits, source):
                                 "axis (a fixed joint in its URDF); the real limit is 0.04 m"},
         },
         "goal": f"goalQ from the request's joint constraints; goal = pose of {FLANGE} at goalQ "
-                "(crate/tests/data/urdf/panda_collision.urdf)",
+                "(crate/tests/data/urdf/panda_collision.urdf); grasped = the id of the object "
+                f"nearest to the grasp point ({GRASP_POINT} m along {FLANGE}'s z) at goalQ",
         "obstacles": "boxes {id, center, halfExtents, rotation}; cylinders {id, center, rotation, "
                      "radius, halfLength, a, b} (axis = local z, a and b its end centres); "
                      "spheres {id, center, radius}",
