@@ -122,13 +122,7 @@ fn a_panda_problem_read_back_from_json_runs() {
     last_problem_runs("panda");
 }
 
-/// Known failure, not of the problem files: the PR2 set's scenarios (the
-/// built-in `pr2.json` arm, with inertial data) panic in `World::step` on
-/// the first steps, read back from JSON or not: `f64::clamp` with NaN
-/// bounds in `avoidance::limits::step_with`, called by the torque-limit
-/// bisection of `world::dynamics::hold_torque_limits`.
 #[test]
-#[ignore = "PR2 scenarios panic in World::step (hold_torque_limits → step_with clamp with NaN)"]
 fn a_pr2_problem_read_back_from_json_runs() {
     last_problem_runs("pr2");
 }

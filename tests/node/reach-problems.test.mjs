@@ -18,7 +18,6 @@ const fixture = (set) => new URL(`../../target/tmp/reach-problems/${set}.json`, 
 // The PR2 set's scenarios panic in World.step (crate/tests/reach_problem_files.rs,
 // a_pr2_problem_read_back_from_json_runs: NaN bounds in the torque-limit
 // bisection), a fault of the stepping, not of the problem files.
-const TODO = { pr2: 'PR2 scenarios panic in World.step (hold_torque_limits: clamp with NaN bounds)' };
 
 for (const [set, count] of Object.entries(COUNTS)) {
   test(`reachProblems('${set}'): ${count} problems, the same as the native set`, () => {
@@ -35,7 +34,7 @@ for (const [set, count] of Object.entries(COUNTS)) {
     }
   });
 
-  test(`reachProblems('${set}'): the last problem loads into a World and steps`, { todo: TODO[set] }, () => {
+  test(`reachProblems('${set}'): the last problem loads into a World and steps`, () => {
     // Its own q0 and obstacles over the set's base.
     const p = reachProblems(set).at(-1);
     const world = new sa.World(p.scenario);
