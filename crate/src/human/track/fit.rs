@@ -4,7 +4,9 @@
 //! its three joints.
 //!
 //! Each limb is aimed from the body's own joint, not the recorded one: the
-//! upper arm from the body's shoulder at the recorded elbow, the forearm
+//! shoulder girdle turns the body's shoulder towards the recorded one (a
+//! tracker's shoulder rises and moves out with the arm), then the upper
+//! arm from the body's shoulder at the recorded elbow, the forearm
 //! from the body's elbow at the recorded wrist, so that a recorded limb of
 //! the body's lengths is reached exactly and any difference in length stays
 //! along the limb instead of turning it; each leg puts the ankle where it
@@ -118,13 +120,13 @@ pub(crate) fn fit(j: &[DVec3; 14], dims: &Dims, prev: Option<&Fitted>) -> Fitted
         lumbar + trunk * (DVec3::Z * up),
         0.5 * (h1 + h2),
     );
-    // Arms, in the trunk's frame, from the body's own shoulders.
-    let half = 0.5 * dims.segments.shoulder_width;
-    for (k, side, e, w) in [
-        (joint::LEFT_ARM, 1.0, le, lw),
-        (joint::RIGHT_ARM, -1.0, re, rw),
+    // Arms, in the trunk's frame, from the body's own shoulders (the
+    // girdle turned towards the recorded ones).
+    for (k, g, side, sh, e, w) in [
+        (joint::LEFT_ARM, joint::LEFT_GIRDLE, 1.0, ls, le, lw),
+        (joint::RIGHT_ARM, joint::RIGHT_GIRDLE, -1.0, rs, re, rw),
     ] {
-        let s = lumbar + trunk * DVec3::new(0.0, side * half, up);
+        let s = shoulder(&mut pose, (trunk, lumbar, up), (g, side), [sh, w], dims);
         arm(&mut pose, trunk, (k, side), [s, e, w], dims, prev);
     }
     // Legs, in the root's frame, from the body's own hips.
@@ -234,6 +236,83 @@ fn heading(ls: DVec3, rs: DVec3, lh: DVec3, rh: DVec3, prev: Option<&Fitted>) ->
         prev.map_or(0.0, |p| p.heading)
     }
 }
+
+/// The body's shoulder joint on side `side` (girdle joints `g`, `g + 1`)
+/// for the recorded shoulder `sh` and wrist `w`, the trunk's frame `trunk`
+/// with its lumbar joint `lumbar` and the shoulders' middle `up` above it:
+/// the clavicle aimed from the sternoclavicular joint (that middle) at the
+/// recorded shoulder; when the wrist is then out of the arm's reach, turned
+/// towards the wrist as far as it takes to reach it (the hand first), all
+/// within the girdle's range. Sets the girdle's angles in `pose`.
+fn shoulder(
+    pose: &mut Pose,
+    (trunk, lumbar, up): (DMat3, DVec3, f64),
+    (g, side): (usize, f64),
+    [sh, w]: [DVec3; 2],
+    dims: &Dims,
+) -> DVec3 {
+    let half = 0.5 * dims.segments.shoulder_width;
+    let sc = lumbar + trunk * (DVec3::Z * up);
+    let at = |[e, p]: [f64; 2]| {
+        if e == 0.0 && p == 0.0 {
+            lumbar + trunk * DVec3::new(0.0, side * half, up)
+        } else {
+            let (sp, cp) = crate::math::sin_cos(p);
+            let (se, ce) = crate::math::sin_cos(e);
+            sc + trunk * (DVec3::new(sp, side * cp * ce, cp * se) * half)
+        }
+    };
+    let reach = dims.segments.upper_arm + dims.segments.forearm;
+    let d0 = (trunk.transpose() * (sh - sc)).normalize_or(DVec3::Y * side);
+    let mut angles = girdle(d0, side, g);
+    let short = |a: [f64; 2]| (w - at(a)).length() - reach;
+    if short(angles) > 1e-9 {
+        let dw = (trunk.transpose() * (w - sc)).normalize_or(d0);
+        let towards = |t: f64| girdle(d0.lerp(dw, t), side, g);
+        let far = towards(1.0);
+        if short(far) < short(angles) {
+            // The least turn that reaches the wrist (or the whole turn).
+            let (mut lo, mut hi) = (0.0, 1.0);
+            if short(far) <= 0.0 {
+                for _ in 0..40 {
+                    let mid = 0.5 * (lo + hi);
+                    if short(towards(mid)) <= 0.0 {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+            }
+            angles = towards(hi);
+        }
+    }
+    pose.angles[g..g + 2].copy_from_slice(&angles);
+    at(angles)
+}
+
+/// The shoulder girdle's elevation and protraction (joints `g`, `g + 1`,
+/// within the body's range) that aim the clavicle from the
+/// sternoclavicular joint along `d` (trunk frame) on side `side`: the
+/// clavicle's end is `(sin p, side cos p cos e, cos p sin e)` times its
+/// length. An angle within [`GIRDLE_REST`] of zero is zero (a body's own
+/// shoulders, refitted, keep the girdle at rest).
+fn girdle(d: DVec3, side: f64, g: usize) -> [f64; 2] {
+    let d = d.normalize_or(DVec3::Y * side);
+    let p = crate::math::atan2(d.x, (d.y * d.y + d.z * d.z).sqrt());
+    let e = crate::math::atan2(d.z, side * d.y);
+    let range = &super::super::pose::JOINTS;
+    let settle = |a: f64, k: usize| {
+        if a.abs() < GIRDLE_REST {
+            0.0
+        } else {
+            a.clamp(range[k].min, range[k].max)
+        }
+    };
+    [settle(e, g), settle(p, g + 1)]
+}
+
+/// Girdle angles smaller than this (rad) are taken as rest.
+const GIRDLE_REST: f64 = 1e-9;
 
 /// The trunk's angles: z from the lumbar joint towards the middle of the
 /// shoulders, y along them; returns the trunk's frame.
