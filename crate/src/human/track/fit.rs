@@ -351,7 +351,10 @@ fn neck(pose: &mut Pose, trunk: DMat3, neck: DVec3, head: DVec3) {
 /// body's shoulder `s` and the recorded elbow `e` and wrist `w`, in the
 /// trunk's frame: the wrist reached from the body's shoulder (the elbow
 /// angle from their distance, straight when out of reach), the elbow on
-/// the side of the recorded one.
+/// the side of the recorded one. When the body's ranges keep that from
+/// reaching the wrist (an elbow that would bend backwards, as a 2D pose
+/// lifted to 3D may give), the elbow on the other side or the shoulder's
+/// other set of angles, whichever puts the wrist closest.
 fn arm(
     pose: &mut Pose,
     trunk: DMat3,
@@ -367,35 +370,75 @@ fn arm(
     let c = ((l1 * l1 + r * r - l2 * l2) / (2.0 * l1 * r.max(1e-9))).clamp(-1.0, 1.0);
     let off = e - s - u * u.dot(e - s);
     let n = off.normalize_or(DVec3::ZERO);
-    let elbow_at = s + (u * c + n * (1.0 - c * c).sqrt()) * l1;
-    let along = (trunk.transpose() * (elbow_at - s)).normalize_or(-DVec3::Z);
-    let fore = (trunk.transpose() * (w - elbow_at)).normalize_or(along);
-    let elbow = angle(along, fore);
-    let mut bend = fore - along * along.dot(fore);
-    if bend.length_squared() < 1e-12 {
-        // A straight arm: any bend direction; keep the previous one's
-        // rotation by bending forward of the arm.
-        let ahead = DVec3::X - along * along.x;
-        bend = if ahead.length_squared() > 1e-12 {
-            ahead
-        } else {
-            DVec3::Z - along * along.z
+    let solve = |n: DVec3| {
+        let elbow_at = s + (u * c + n * (1.0 - c * c).sqrt()) * l1;
+        let along = (trunk.transpose() * (elbow_at - s)).normalize_or(-DVec3::Z);
+        let fore = (trunk.transpose() * (w - elbow_at)).normalize_or(along);
+        let elbow = angle(along, fore);
+        let mut bend = fore - along * along.dot(fore);
+        if bend.length_squared() < 1e-12 {
+            // A straight arm: any bend direction; keep the previous one's
+            // rotation by bending forward of the arm.
+            let ahead = DVec3::X - along * along.x;
+            bend = if ahead.length_squared() > 1e-12 {
+                ahead
+            } else {
+                DVec3::Z - along * along.z
+            };
+        }
+        let [chosen, other] = within_range(k, arm_angles(along, bend.normalize(), side), side);
+        let held = |[f, ab, rot]: [f64; 3]| {
+            let rot = if elbow < 1e-6 {
+                prev.map_or(0.0, |p| p.pose.angles[k + 2])
+            } else {
+                rot
+            };
+            [f, ab, rot, elbow]
         };
-    }
-    let [f, ab, rot] = within_range(k, arm_angles(along, bend.normalize(), side), side);
-    let rot = if elbow < 1e-6 {
-        prev.map_or(0.0, |p| p.pose.angles[k + 2])
-    } else {
-        rot
+        [held(chosen), held(other)]
     };
-    pose.angles[k..k + 4].copy_from_slice(&[f, ab, rot, elbow]);
+    let [first, second] = solve(n);
+    let mut best = first;
+    let target = trunk.transpose() * to_wrist;
+    let miss = |a: &[f64; 4]| (wrist_of(k, a, side, (l1, l2)) - target).length();
+    // Out of reach the wrist is missed by the difference whatever the
+    // angles; another choice must bring it closer by a millimetre.
+    let m0 = miss(&first);
+    if m0 > (r - l1 - l2).max(0.0) + SWITCH {
+        let [third, fourth] = solve(-n);
+        let mut least = m0 - SWITCH;
+        for a in [second, third, fourth] {
+            let m = miss(&a);
+            if m < least {
+                (best, least) = (a, m);
+            }
+        }
+    }
+    pose.angles[k..k + 4].copy_from_slice(&best);
+}
+
+/// How much closer (m) to the recorded wrist another choice of the arm's
+/// angles must bring it.
+const SWITCH: f64 = 1e-3;
+
+/// Where an arm of lengths `l1`, `l2` with angles `a` (first joint `k`,
+/// clamped into the body's range) puts the wrist, from the shoulder in the
+/// trunk's frame (as [`super::super::body`] poses it).
+fn wrist_of(k: usize, a: &[f64; 4], side: f64, (l1, l2): (f64, f64)) -> DVec3 {
+    let range = &super::super::pose::JOINTS[k..k + 4];
+    let q: [f64; 4] = std::array::from_fn(|i| a[i].clamp(range[i].min, range[i].max));
+    let upper = rotation(-DVec3::Y, q[0])
+        * rotation(DVec3::X * side, q[1])
+        * rotation(-DVec3::Z * side, q[2]);
+    upper * (-DVec3::Z * l1) + upper * (rotation(-DVec3::Y, q[3]) * (-DVec3::Z * l2))
 }
 
 /// Of the two sets of shoulder angles that give the same arm (flexion
 /// `f`, abduction `ab`, rotation `rot`, and `f + π`, `π − ab`, `rot + π`
 /// with the side's signs), the one the body's ranges clamp the least
-/// (an arm raised sideways overhead is an abduction past π/2).
-fn within_range(k: usize, [f, ab, rot]: [f64; 3], side: f64) -> [f64; 3] {
+/// (an arm raised sideways overhead is an abduction past π/2), then the
+/// other one.
+fn within_range(k: usize, [f, ab, rot]: [f64; 3], side: f64) -> [[f64; 3]; 2] {
     use std::f64::consts::PI;
     let other = [
         wrap(f - PI),
@@ -409,8 +452,8 @@ fn within_range(k: usize, [f, ab, rot]: [f64; 3], side: f64) -> [f64; 3] {
             .sum()
     };
     if beyond(&other) < beyond(&[f, ab, rot]) {
-        other
+        [other, [f, ab, rot]]
     } else {
-        [f, ab, rot]
+        [[f, ab, rot], other]
     }
 }
