@@ -269,7 +269,9 @@ export type HumanPose = Partial<Record<
   | 'leftShoulderFlexion' | 'leftShoulderAbduction' | 'leftShoulderRotation' | 'leftElbow'
   | 'rightShoulderFlexion' | 'rightShoulderAbduction' | 'rightShoulderRotation' | 'rightElbow'
   | 'leftHipFlexion' | 'leftHipAbduction' | 'leftKnee'
-  | 'rightHipFlexion' | 'rightHipAbduction' | 'rightKnee',
+  | 'rightHipFlexion' | 'rightHipAbduction' | 'rightKnee'
+  | 'leftShoulderElevation' | 'leftShoulderProtraction'
+  | 'rightShoulderElevation' | 'rightShoulderProtraction',
   number
 >>;
 

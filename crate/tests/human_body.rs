@@ -427,3 +427,41 @@ fn reach_on_a_degenerate_figure_is_a_valid_pose() {
         }
     }
 }
+
+#[test]
+fn the_shoulder_girdle_moves_the_shoulder_joint_about_the_sternum() {
+    let rest = at_rest(Root::default(), &[]);
+    let half = 0.5 * p::SHOULDER_WIDTH * H;
+    let (e, pr) = (0.5, -0.3);
+    let raised = at_rest(
+        Root::default(),
+        &[
+            ("leftShoulderElevation", e),
+            ("rightShoulderProtraction", pr),
+        ],
+    );
+    // Left: the clavicle turned up by e about the shoulders' middle.
+    let (s0, _) = ends(&rest, "leftUpperArm");
+    let (s1, elbow) = ends(&raised, "leftUpperArm");
+    let sternum = s0 - DVec3::Y * half;
+    close(
+        s1,
+        sternum + half * DVec3::new(0.0, e.cos(), e.sin()),
+        1e-12,
+    );
+    // The arm keeps hanging along the trunk's −z.
+    close(elbow - s1, -DVec3::Z * (p::UPPER_ARM * H), 1e-12);
+    // Right: retracted (negative protraction) backwards.
+    let (r0, _) = ends(&rest, "rightUpperArm");
+    let (r1, _) = ends(&raised, "rightUpperArm");
+    let sternum = r0 + DVec3::Y * half;
+    close(
+        r1,
+        sternum + half * DVec3::new(pr.sin(), -pr.cos(), 0.0),
+        1e-12,
+    );
+    // The rest of the body does not move.
+    for name in ["torso", "head", "leftThigh", "rightFoot"] {
+        assert_eq!(ends(&rest, name), ends(&raised, name), "{name}");
+    }
+}

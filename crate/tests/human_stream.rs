@@ -329,3 +329,100 @@ fn a_dropout_grows_the_hands_margin_at_two_metres_a_second_and_the_arm_keeps_cle
     );
     assert!(stale_events > 0 && moving_steps > 0);
 }
+
+/// Two camera stills lifted to metres by the person's height
+/// (`web/keypoints.js`'s `liftCoco17` and `placeInWorld` for a 1.70 m
+/// person 1 m in front of the arm, facing it, the left hand raised above
+/// the head, the right one hanging): every keypoint in one vertical plane
+/// but the arms', leaned towards the camera by what the image shortens (in
+/// the first the upper arms lean further than the forearms, an elbow that
+/// would bend backwards; in the second the raised arm is straight).
+const RAISED_LEFT_HAND: [[[f64; 3]; 17]; 2] = [
+    [
+        [1.0, 0.0, 1.5321],
+        [1.0, -0.0277, 1.5598],
+        [1.0, 0.0277, 1.5598],
+        [1.0, -0.0647, 1.5414],
+        [1.0, 0.0647, 1.5414],
+        [1.0, -0.1755, 1.3566],
+        [1.0, 0.1755, 1.3566],
+        [0.7725, -0.2309, 1.5691],
+        [0.8065, 0.194, 1.1072],
+        [0.7164, -0.2032, 1.8092],
+        [0.7446, 0.2032, 0.867],
+        [1.0, -0.0831, 0.867],
+        [1.0, 0.0831, 0.867],
+        [1.0, -0.0924, 0.479],
+        [1.0, 0.0924, 0.479],
+        [1.0, -0.0924, 0.1003],
+        [1.0, 0.0924, 0.1003],
+    ],
+    [
+        [1.0, 0.0, 1.5321],
+        [1.0, -0.0277, 1.5598],
+        [1.0, 0.0277, 1.5598],
+        [1.0, -0.0647, 1.5414],
+        [1.0, 0.0647, 1.5414],
+        [1.0, -0.1755, 1.3566],
+        [1.0, 0.1755, 1.3566],
+        [0.833, -0.194, 1.6245],
+        [0.8184, 0.1848, 1.0979],
+        [0.833, -0.2032, 1.8832],
+        [0.7565, 0.194, 0.8578],
+        [1.0, -0.0831, 0.867],
+        [1.0, 0.0831, 0.867],
+        [1.0, -0.0924, 0.479],
+        [1.0, 0.0924, 0.479],
+        [1.0, -0.0924, 0.1003],
+        [1.0, 0.0924, 0.1003],
+    ],
+];
+
+#[test]
+fn a_lifted_still_with_a_raised_hand_is_fitted_with_that_hand_raised() {
+    // A person whose segments the first frame measures, and one of the
+    // body's own proportions.
+    let proportional = json!({ "upperArm": 0.3255, "forearm": 0.2555, "thigh": 0.42875,
+        "shank": 0.4305, "shoulderWidth": 0.45325, "hipWidth": 0.175, "trunk": 0.504 });
+    for (still, keypoints) in RAISED_LEFT_HAND.iter().enumerate() {
+        for segments in [Value::Null, proportional.clone()] {
+            let mut person =
+                json!({ "type": "human", "position": [1, 0, 0], "heading": std::f64::consts::PI });
+            if !segments.is_null() {
+                person["segments"] = segments.clone();
+            }
+            let text = json!({
+                "robot": { "preset": "panda" },
+                "obstacles": [{ "id": "person", "shape": person }],
+                "dt": 0.01,
+                "duration": 1.0
+            });
+            let mut w = World::new(Scenario::from_json(&text.to_string()).unwrap()).unwrap();
+            let frame = HumanFrame {
+                t: 0.0,
+                layout: "coco17".into(),
+                keypoints: keypoints.to_vec(),
+                confidence: None,
+            };
+            w.push_human_frame("person", &frame).unwrap();
+            w.step(0.01);
+            let state = w.state();
+            let parts = &state.obstacles[0].parts;
+            let wrist = |k: usize| match &parts[k] {
+                skeleton_avoidance::distance::PrimitiveSpec::Capsule(c) => DVec3::from_array(c.a),
+                other => panic!("{other:?}"),
+            };
+            // The hands' capsules start at the wrists (parts 6 and 9).
+            let (left, right) = (wrist(6), wrist(9));
+            let what = format!("still {still}, segments {segments}");
+            for (got, want) in [(left, keypoints[9]), (right, keypoints[10])] {
+                let off = (got - DVec3::from_array(want)).length();
+                assert!(
+                    off < 0.03,
+                    "{what}: wrist {got} vs keypoint {want:?}: {off:.3} m"
+                );
+            }
+            assert!(left.z > right.z + 0.3, "{what}: left {left}, right {right}");
+        }
+    }
+}

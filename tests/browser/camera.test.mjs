@@ -56,12 +56,7 @@ const look = (page) => page.evaluate(() => {
   };
 });
 
-// Reported, not counted, until fixed: since the track fit reaches each
-// wrist from the body's own shoulder with the subject's segment lengths,
-// the still's raised left hand ends level with the right one (1.44 m both)
-// when its 2D keypoints are lifted by the height. The rest of this test
-// (keypoints, HUD, clearance) is what ran green before the fit changed.
-test('the camera drives the person: keypoints found, the person follows, the arm keeps clear, the HUD shows latency and rate', { todo: 'the lifted still\'s raised hand is fitted level with the other one' }, async () => {
+test('the camera drives the person: keypoints found, the person follows, the arm keeps clear, the HUD shows latency and rate', async () => {
   const browser = await launch({ webgpu: true, viewport: { width: 1280, height: 800 }, extraArgs: ['--use-fake-ui-for-media-stream', ...FAKE] });
   try {
     const page = await browser.context.newPage();

@@ -312,21 +312,22 @@ fn limb_parts(
     dims: &Dims,
 ) {
     let y = DVec3::Y;
-    let shoulder_z = dims.shoulder_above_lumbar();
     let seg = &dims.segments;
-    for (side, k, names) in [
+    for (side, k, g, names) in [
         (
             1.0,
             joint::LEFT_ARM,
+            joint::LEFT_GIRDLE,
             ["leftUpperArm", "leftForearm", "leftHand"],
         ),
         (
             -1.0,
             joint::RIGHT_ARM,
+            joint::RIGHT_GIRDLE,
             ["rightUpperArm", "rightForearm", "rightHand"],
         ),
     ] {
-        let shoulder = trunk.at(DVec3::new(0.0, side * 0.5 * seg.shoulder_width, shoulder_z));
+        let shoulder = shoulder(trunk, side, (&q[g..g + 2], &rates[g..g + 2]), dims);
         arm(
             parts,
             shoulder,
@@ -353,6 +354,30 @@ fn limb_parts(
             dims,
             names,
         );
+    }
+}
+
+/// The shoulder joint's frame on side `side`: on the trunk at half the
+/// shoulder width from the shoulders' middle, moved by the girdle's
+/// elevation and protraction (`q`, at `rate`) about the sternoclavicular
+/// joint at that middle; its axes stay the trunk's. A girdle at rest and
+/// still places it exactly as a body without one.
+fn shoulder(trunk: &Frame, side: f64, (q, rate): (&[f64], &[f64]), dims: &Dims) -> Frame {
+    let half = side * 0.5 * dims.segments.shoulder_width;
+    let up = dims.shoulder_above_lumbar();
+    if q.iter().chain(rate).all(|&a| a == 0.0) {
+        return trunk.at(DVec3::new(0.0, half, up));
+    }
+    let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
+    let clavicle = trunk
+        .at(z * up)
+        .turn(x * side, q[0], rate[0])
+        .turn(-z * side, q[1], rate[1])
+        .at(y * half);
+    Frame {
+        r: trunk.r,
+        w: trunk.w,
+        ..clavicle
     }
 }
 

@@ -8,11 +8,14 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use crate::error::{FieldError, finite};
 
 /// Number of joint angles of a [`Pose`].
-pub const JOINT_COUNT: usize = 19;
+pub const JOINT_COUNT: usize = 23;
 
 /// A joint angle: its JSON name and the range of motion of the body
 /// (rad; the active ranges of healthy adults, rounded, after the AAOS
-/// tables, with the shoulder's elevation reaching overhead).
+/// tables, with the shoulder's elevation reaching overhead; the shoulder
+/// girdle's, at the sternoclavicular joint, after Neumann, *Kinesiology of
+/// the Musculoskeletal System*, ch. 5: elevation up to 45° and depression
+/// 10°, protraction and retraction 15–20° each way, taken as 20°).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointRange {
     /// JSON name (`leftElbow`).
@@ -40,7 +43,12 @@ const fn j(name: &'static str, min: f64, max: f64) -> JointRange {
 ///   swings a bent forearm across the body, internal rotation);
 /// - `*Elbow` bends the forearm towards the upper arm's front;
 /// - `*HipFlexion` swings the thigh forward, `*HipAbduction` sideways away
-///   from the body, `*Knee` bends the shin backwards.
+///   from the body, `*Knee` bends the shin backwards;
+/// - `*ShoulderElevation` turns the clavicle about the sternoclavicular
+///   joint (the middle of the shoulders) raising the shoulder joint,
+///   `*ShoulderProtraction` turns it bringing the shoulder joint forward
+///   (negative: retraction); they move the shoulder joint, not the arm's
+///   orientation (the arm's angles stay relative to the trunk).
 pub const JOINTS: [JointRange; JOINT_COUNT] = [
     j("spineFlexion", -0.5, 1.6),
     j("spineLateral", -0.6, 0.6),
@@ -61,6 +69,10 @@ pub const JOINTS: [JointRange; JOINT_COUNT] = [
     j("rightHipFlexion", -0.5, 2.1),
     j("rightHipAbduction", -0.5, 0.8),
     j("rightKnee", 0.0, 2.4),
+    j("leftShoulderElevation", -0.17, 0.79),
+    j("leftShoulderProtraction", -0.35, 0.35),
+    j("rightShoulderElevation", -0.17, 0.79),
+    j("rightShoulderProtraction", -0.35, 0.35),
 ];
 
 /// Indices into [`Pose::angles`] by name.
@@ -79,6 +91,10 @@ pub mod joint {
     pub const LEFT_LEG: usize = 13;
     /// First joint of the right leg.
     pub const RIGHT_LEG: usize = 16;
+    /// The left shoulder girdle (elevation, protraction).
+    pub const LEFT_GIRDLE: usize = 19;
+    /// The right shoulder girdle.
+    pub const RIGHT_GIRDLE: usize = 21;
 }
 
 /// The index of joint `name` in [`JOINTS`].

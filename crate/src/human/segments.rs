@@ -4,7 +4,9 @@
 //! Without `segments` every length is Drillis & Contini's fraction of the
 //! height ([`super::proportion`]). A recording measures its subject: the
 //! track fit takes the median of each segment over the frames, the left and
-//! right sides together ([`measure`]), and keeps it within
+//! right sides together ([`measure`]; the arm lengthened, both segments
+//! alike, to the 95th percentile of the recorded shoulder–wrist distance
+//! when that is longer), and keeps it within
 //! [`PLAUSIBLE`] times the proportion's value at the body's height (a
 //! tracker's outliers do not make a giant's forearm). The radii, the head,
 //! the neck, the hands and the feet stay proportional to the height.
@@ -179,13 +181,32 @@ pub fn measure(frames: &[[DVec3; 14]], h: f64) -> Segments {
     }
     let mut v = [f64::NAN; 7];
     for (k, s) in series.iter_mut().enumerate() {
-        s.retain(|x| x.is_finite());
-        s.sort_by(f64::total_cmp);
-        if !s.is_empty() {
-            v[k] = s[s.len() / 2];
-        }
+        v[k] = quantile(s, 0.5);
+    }
+    // The arm reaches as far as the recorded wrist goes from the recorded
+    // shoulder (95th percentile): a tracker's shoulder keypoint moves out
+    // with a raised or outstretched arm, so the medians of the upper arm
+    // and forearm fall short of the outstretched arm, where the hand is.
+    let mut reach: Vec<f64> = frames
+        .iter()
+        .flat_map(|j| [(j[0] - j[4]).length(), (j[1] - j[5]).length()])
+        .collect();
+    let reach = quantile(&mut reach, 0.95);
+    let arm = v[0] + v[1];
+    if reach > arm && arm > 0.0 {
+        v[0] *= reach / arm;
+        v[1] *= reach / arm;
     }
     Segments::from_values(v).clamped(h)
+}
+
+/// The `q` quantile of the finite values of `s` (sorted in place; the
+/// element at rank ⌊q·n⌋, NaN when none).
+fn quantile(s: &mut Vec<f64>, q: f64) -> f64 {
+    s.retain(|x| x.is_finite());
+    s.sort_by(f64::total_cmp);
+    let k = ((q * s.len() as f64) as usize).min(s.len().saturating_sub(1));
+    s.get(k).copied().unwrap_or(f64::NAN)
 }
 
 #[cfg(test)]

@@ -4,7 +4,9 @@
 //! its three joints.
 //!
 //! Each limb is aimed from the body's own joint, not the recorded one: the
-//! upper arm from the body's shoulder at the recorded elbow, the forearm
+//! shoulder girdle turns the body's shoulder towards the recorded one (a
+//! tracker's shoulder rises and moves out with the arm), then the upper
+//! arm from the body's shoulder at the recorded elbow, the forearm
 //! from the body's elbow at the recorded wrist, so that a recorded limb of
 //! the body's lengths is reached exactly and any difference in length stays
 //! along the limb instead of turning it; each leg puts the ankle where it
@@ -118,13 +120,13 @@ pub(crate) fn fit(j: &[DVec3; 14], dims: &Dims, prev: Option<&Fitted>) -> Fitted
         lumbar + trunk * (DVec3::Z * up),
         0.5 * (h1 + h2),
     );
-    // Arms, in the trunk's frame, from the body's own shoulders.
-    let half = 0.5 * dims.segments.shoulder_width;
-    for (k, side, e, w) in [
-        (joint::LEFT_ARM, 1.0, le, lw),
-        (joint::RIGHT_ARM, -1.0, re, rw),
+    // Arms, in the trunk's frame, from the body's own shoulders (the
+    // girdle turned towards the recorded ones).
+    for (k, g, side, sh, e, w) in [
+        (joint::LEFT_ARM, joint::LEFT_GIRDLE, 1.0, ls, le, lw),
+        (joint::RIGHT_ARM, joint::RIGHT_GIRDLE, -1.0, rs, re, rw),
     ] {
-        let s = lumbar + trunk * DVec3::new(0.0, side * half, up);
+        let s = shoulder(&mut pose, (trunk, lumbar, up), (g, side), [sh, w], dims);
         arm(&mut pose, trunk, (k, side), [s, e, w], dims, prev);
     }
     // Legs, in the root's frame, from the body's own hips.
@@ -235,6 +237,83 @@ fn heading(ls: DVec3, rs: DVec3, lh: DVec3, rh: DVec3, prev: Option<&Fitted>) ->
     }
 }
 
+/// The body's shoulder joint on side `side` (girdle joints `g`, `g + 1`)
+/// for the recorded shoulder `sh` and wrist `w`, the trunk's frame `trunk`
+/// with its lumbar joint `lumbar` and the shoulders' middle `up` above it:
+/// the clavicle aimed from the sternoclavicular joint (that middle) at the
+/// recorded shoulder; when the wrist is then out of the arm's reach, turned
+/// towards the wrist as far as it takes to reach it (the hand first), all
+/// within the girdle's range. Sets the girdle's angles in `pose`.
+fn shoulder(
+    pose: &mut Pose,
+    (trunk, lumbar, up): (DMat3, DVec3, f64),
+    (g, side): (usize, f64),
+    [sh, w]: [DVec3; 2],
+    dims: &Dims,
+) -> DVec3 {
+    let half = 0.5 * dims.segments.shoulder_width;
+    let sc = lumbar + trunk * (DVec3::Z * up);
+    let at = |[e, p]: [f64; 2]| {
+        if e == 0.0 && p == 0.0 {
+            lumbar + trunk * DVec3::new(0.0, side * half, up)
+        } else {
+            let (sp, cp) = crate::math::sin_cos(p);
+            let (se, ce) = crate::math::sin_cos(e);
+            sc + trunk * (DVec3::new(sp, side * cp * ce, cp * se) * half)
+        }
+    };
+    let reach = dims.segments.upper_arm + dims.segments.forearm;
+    let d0 = (trunk.transpose() * (sh - sc)).normalize_or(DVec3::Y * side);
+    let mut angles = girdle(d0, side, g);
+    let short = |a: [f64; 2]| (w - at(a)).length() - reach;
+    if short(angles) > 1e-9 {
+        let dw = (trunk.transpose() * (w - sc)).normalize_or(d0);
+        let towards = |t: f64| girdle(d0.lerp(dw, t), side, g);
+        let far = towards(1.0);
+        if short(far) < short(angles) {
+            // The least turn that reaches the wrist (or the whole turn).
+            let (mut lo, mut hi) = (0.0, 1.0);
+            if short(far) <= 0.0 {
+                for _ in 0..40 {
+                    let mid = 0.5 * (lo + hi);
+                    if short(towards(mid)) <= 0.0 {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+            }
+            angles = towards(hi);
+        }
+    }
+    pose.angles[g..g + 2].copy_from_slice(&angles);
+    at(angles)
+}
+
+/// The shoulder girdle's elevation and protraction (joints `g`, `g + 1`,
+/// within the body's range) that aim the clavicle from the
+/// sternoclavicular joint along `d` (trunk frame) on side `side`: the
+/// clavicle's end is `(sin p, side cos p cos e, cos p sin e)` times its
+/// length. An angle within [`GIRDLE_REST`] of zero is zero (a body's own
+/// shoulders, refitted, keep the girdle at rest).
+fn girdle(d: DVec3, side: f64, g: usize) -> [f64; 2] {
+    let d = d.normalize_or(DVec3::Y * side);
+    let p = crate::math::atan2(d.x, (d.y * d.y + d.z * d.z).sqrt());
+    let e = crate::math::atan2(d.z, side * d.y);
+    let range = &super::super::pose::JOINTS;
+    let settle = |a: f64, k: usize| {
+        if a.abs() < GIRDLE_REST {
+            0.0
+        } else {
+            a.clamp(range[k].min, range[k].max)
+        }
+    };
+    [settle(e, g), settle(p, g + 1)]
+}
+
+/// Girdle angles smaller than this (rad) are taken as rest.
+const GIRDLE_REST: f64 = 1e-9;
+
 /// The trunk's angles: z from the lumbar joint towards the middle of the
 /// shoulders, y along them; returns the trunk's frame.
 fn spine(pose: &mut Pose, lumbar: DVec3, ls: DVec3, rs: DVec3, base: DMat3) -> DMat3 {
@@ -272,7 +351,10 @@ fn neck(pose: &mut Pose, trunk: DMat3, neck: DVec3, head: DVec3) {
 /// body's shoulder `s` and the recorded elbow `e` and wrist `w`, in the
 /// trunk's frame: the wrist reached from the body's shoulder (the elbow
 /// angle from their distance, straight when out of reach), the elbow on
-/// the side of the recorded one.
+/// the side of the recorded one. When the body's ranges keep that from
+/// reaching the wrist (an elbow that would bend backwards, as a 2D pose
+/// lifted to 3D may give), the elbow on the other side or the shoulder's
+/// other set of angles, whichever puts the wrist closest.
 fn arm(
     pose: &mut Pose,
     trunk: DMat3,
@@ -288,35 +370,75 @@ fn arm(
     let c = ((l1 * l1 + r * r - l2 * l2) / (2.0 * l1 * r.max(1e-9))).clamp(-1.0, 1.0);
     let off = e - s - u * u.dot(e - s);
     let n = off.normalize_or(DVec3::ZERO);
-    let elbow_at = s + (u * c + n * (1.0 - c * c).sqrt()) * l1;
-    let along = (trunk.transpose() * (elbow_at - s)).normalize_or(-DVec3::Z);
-    let fore = (trunk.transpose() * (w - elbow_at)).normalize_or(along);
-    let elbow = angle(along, fore);
-    let mut bend = fore - along * along.dot(fore);
-    if bend.length_squared() < 1e-12 {
-        // A straight arm: any bend direction; keep the previous one's
-        // rotation by bending forward of the arm.
-        let ahead = DVec3::X - along * along.x;
-        bend = if ahead.length_squared() > 1e-12 {
-            ahead
-        } else {
-            DVec3::Z - along * along.z
+    let solve = |n: DVec3| {
+        let elbow_at = s + (u * c + n * (1.0 - c * c).sqrt()) * l1;
+        let along = (trunk.transpose() * (elbow_at - s)).normalize_or(-DVec3::Z);
+        let fore = (trunk.transpose() * (w - elbow_at)).normalize_or(along);
+        let elbow = angle(along, fore);
+        let mut bend = fore - along * along.dot(fore);
+        if bend.length_squared() < 1e-12 {
+            // A straight arm: any bend direction; keep the previous one's
+            // rotation by bending forward of the arm.
+            let ahead = DVec3::X - along * along.x;
+            bend = if ahead.length_squared() > 1e-12 {
+                ahead
+            } else {
+                DVec3::Z - along * along.z
+            };
+        }
+        let [chosen, other] = within_range(k, arm_angles(along, bend.normalize(), side), side);
+        let held = |[f, ab, rot]: [f64; 3]| {
+            let rot = if elbow < 1e-6 {
+                prev.map_or(0.0, |p| p.pose.angles[k + 2])
+            } else {
+                rot
+            };
+            [f, ab, rot, elbow]
         };
-    }
-    let [f, ab, rot] = within_range(k, arm_angles(along, bend.normalize(), side), side);
-    let rot = if elbow < 1e-6 {
-        prev.map_or(0.0, |p| p.pose.angles[k + 2])
-    } else {
-        rot
+        [held(chosen), held(other)]
     };
-    pose.angles[k..k + 4].copy_from_slice(&[f, ab, rot, elbow]);
+    let [first, second] = solve(n);
+    let mut best = first;
+    let target = trunk.transpose() * to_wrist;
+    let miss = |a: &[f64; 4]| (wrist_of(k, a, side, (l1, l2)) - target).length();
+    // Out of reach the wrist is missed by the difference whatever the
+    // angles; another choice must bring it closer by a millimetre.
+    let m0 = miss(&first);
+    if m0 > (r - l1 - l2).max(0.0) + SWITCH {
+        let [third, fourth] = solve(-n);
+        let mut least = m0 - SWITCH;
+        for a in [second, third, fourth] {
+            let m = miss(&a);
+            if m < least {
+                (best, least) = (a, m);
+            }
+        }
+    }
+    pose.angles[k..k + 4].copy_from_slice(&best);
+}
+
+/// How much closer (m) to the recorded wrist another choice of the arm's
+/// angles must bring it.
+const SWITCH: f64 = 1e-3;
+
+/// Where an arm of lengths `l1`, `l2` with angles `a` (first joint `k`,
+/// clamped into the body's range) puts the wrist, from the shoulder in the
+/// trunk's frame (as [`super::super::body`] poses it).
+fn wrist_of(k: usize, a: &[f64; 4], side: f64, (l1, l2): (f64, f64)) -> DVec3 {
+    let range = &super::super::pose::JOINTS[k..k + 4];
+    let q: [f64; 4] = std::array::from_fn(|i| a[i].clamp(range[i].min, range[i].max));
+    let upper = rotation(-DVec3::Y, q[0])
+        * rotation(DVec3::X * side, q[1])
+        * rotation(-DVec3::Z * side, q[2]);
+    upper * (-DVec3::Z * l1) + upper * (rotation(-DVec3::Y, q[3]) * (-DVec3::Z * l2))
 }
 
 /// Of the two sets of shoulder angles that give the same arm (flexion
 /// `f`, abduction `ab`, rotation `rot`, and `f + π`, `π − ab`, `rot + π`
 /// with the side's signs), the one the body's ranges clamp the least
-/// (an arm raised sideways overhead is an abduction past π/2).
-fn within_range(k: usize, [f, ab, rot]: [f64; 3], side: f64) -> [f64; 3] {
+/// (an arm raised sideways overhead is an abduction past π/2), then the
+/// other one.
+fn within_range(k: usize, [f, ab, rot]: [f64; 3], side: f64) -> [[f64; 3]; 2] {
     use std::f64::consts::PI;
     let other = [
         wrap(f - PI),
@@ -330,8 +452,8 @@ fn within_range(k: usize, [f, ab, rot]: [f64; 3], side: f64) -> [f64; 3] {
             .sum()
     };
     if beyond(&other) < beyond(&[f, ab, rot]) {
-        other
+        [other, [f, ab, rot]]
     } else {
-        [f, ab, rot]
+        [[f, ab, rot], other]
     }
 }

@@ -26,7 +26,9 @@
 //! the hips (hip height `0.530 H` above the floor point), the heading from
 //! the hips' left–right direction, the trunk from the
 //! shoulders, the head from the middle of the ears (Kinect: its `head`
-//! joint), each arm from shoulder, elbow and wrist, each leg from hip, knee
+//! joint), each shoulder girdle (elevation, protraction) from the recorded
+//! shoulder, turned further towards the wrist when the arm would not reach
+//! it, each arm from shoulder, elbow and wrist, each leg from hip, knee
 //! and ankle (the knee bends in the thigh's sagittal plane). The height is
 //! `height` or, when absent, estimated from the median length of the limbs
 //! against Drillis & Contini's proportions. A body of those proportions is
