@@ -83,8 +83,12 @@ test('the camera drives the person: keypoints found, the person follows, the arm
     const right = z(byName(seen, 'rightHand'));
     assert.ok(left > right + 0.3, `left hand raised (${left.toFixed(2)} m) above the right one (${right.toFixed(2)} m)`);
     // The HUD shows the live source: the estimator's rate and the end-to-end latency.
-    await page.waitForFunction(() => /camera: pose [1-9][0-9.]* Hz .*latency \d+ ms/.test(window.playground.app.hud.textContent), null, { timeout: 60_000 });
-    const hud = (await look(page)).hud;
+    // (the text as it was when it matched: the HUD is redrawn on its own schedule)
+    const shown = await page.waitForFunction(() => {
+      const text = window.playground.app.hud.textContent;
+      return /camera: pose [1-9][0-9.]* Hz .*latency \d+ ms/.test(text) && text;
+    }, null, { timeout: 60_000 });
+    const hud = await shown.jsonValue();
     assert.match(hud, /camera: pose \d+\.\d Hz \(model \d+ ms\)  latency \d+ ms/);
     // Drag the person towards the arm (the panel's move, as a drag does): the arm keeps clear.
     await page.evaluate(() => {
@@ -183,12 +187,17 @@ test('the person in the scene follows the arm of the person in the picture, up a
     assert.ok(motion.ups > 0 && motion.downs > 0, JSON.stringify(motion));
     // The latency shown is the one the world's sensing model was given.
     await page.waitForFunction(() => Number.isFinite(window.playground.app.live.feed.sensingLatency), null, { timeout: 60_000 });
+    // The HUD is redrawn on its own schedule: wait until it shows the figures.
+    const hudText = await (await page.waitForFunction(() => {
+      const text = window.playground.app.hud.textContent;
+      return /camera: pose \d+\.\d Hz \(model \d+ ms\)  latency \d+ ms/.test(text) && text;
+    }, null, { timeout: 60_000 })).jsonValue();
     const figures = await page.evaluate(() => {
       const f = window.playground.app.live.feed;
-      return { shown: f.latencyMs, set: f.sensingLatency, hud: window.playground.app.hud.textContent, speed: window.playground.app.speed ?? 1 };
+      return { shown: f.latencyMs, set: f.sensingLatency, speed: window.playground.app.speed ?? 1 };
     });
     assert.ok(Math.abs(figures.set - Math.min(2, (figures.speed * figures.shown) / 1000)) < 1e-3, JSON.stringify(figures));
-    assert.match(figures.hud, /camera: pose \d+\.\d Hz \(model \d+ ms\)  latency \d+ ms/);
+    assert.match(hudText, /camera: pose \d+\.\d Hz \(model \d+ ms\)  latency \d+ ms/);
     await page.screenshot({ path: path.join(artifacts, 'camera-moving-1280x800.png') });
     assert.deepEqual(errors, []);
   } finally {
