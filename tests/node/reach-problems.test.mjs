@@ -6,6 +6,8 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
 import { createRequire } from 'node:module';
 import { reachProblems } from '../../package/reach-node.js';
 
@@ -13,11 +15,11 @@ const require = createRequire(import.meta.url);
 const sa = require('../../crate/pkg-node/skeleton_avoidance.js');
 
 const COUNTS = { pr2: 198, panda: 100, mbm: 700 };
-const fixture = (set) => new URL(`../../target/tmp/reach-problems/${set}.json`, import.meta.url);
-
-// The PR2 set's scenarios panic in World.step (crate/tests/reach_problem_files.rs,
-// a_pr2_problem_read_back_from_json_runs: NaN bounds in the torque-limit
-// bisection), a fault of the stepping, not of the problem files.
+// Cargo's target directory (CARGO_TARGET_DIR when set, as cargo resolves it
+// from the repository's root), whose tmp/ the Rust test writes to.
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..');
+const target = path.resolve(root, process.env.CARGO_TARGET_DIR ?? 'target');
+const fixture = (set) => path.join(target, 'tmp', 'reach-problems', `${set}.json`);
 
 for (const [set, count] of Object.entries(COUNTS)) {
   test(`reachProblems('${set}'): ${count} problems, the same as the native set`, () => {
