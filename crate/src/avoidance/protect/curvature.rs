@@ -4,15 +4,32 @@
 //!
 //! With the joints turning at `q̇` the witness accelerates by `J̇_θ q̇` even
 //! at constant joint speeds (the centripetal and Coriolis terms of a
-//! turning chain). While the limiter brakes the joints to rest within
-//! `T_s`, their speeds fall about linearly, so that term falls with their
-//! square and moves the point by at most `|J̇_θ q̇| T_s² / 4`
-//! (`∫₀^T ∫₀^t a (1 − s/T)² ds dt = a T² / 4`). The guard keeps that much
-//! clearance in reserve. It is negligible at ordinary speeds (1 rad/s on
-//! a 0.5 m chain: 0.5 m/s², about 2 mm for the 0.1 s stop) and grows with
-//! the fourth power of the joint speed: measured on the PR2 reach problems,
-//! the gripper closed on a box at 0.36 m/s while the arm braked from
-//! 3.3 rad/s, the approach speed rising from 0.11 m/s as the chain turned.
+//! turning chain). The guard keeps `|J̇_θ q̇| T_s²` of clearance in
+//! reserve, `T_s` the joints' stop time now:
+//! * held at constant speed for `T_s` the bend alone moves the point by
+//!   `|J̇_θ q̇| T_s² / 2`; braked to rest at once, by a quarter of it
+//!   (`∫₀^T ∫₀^t a (1 − s/T)² ds dt = a T² / 4`);
+//! * but the joints do not brake at once: the QP's velocity is reached
+//!   through the limiter at the acceleration limits, so while the guard
+//!   binds the joints may still be gaining speed, and the bend grows with
+//!   their square. On NEO's PR2 problem bookshelf 21 the gripper slid along
+//!   a box 11 mm off while the wrist roll sped up from 2.0 to 2.6 rad/s
+//!   after the quarter-size reserve had passed that clearance; it touched
+//!   the box 0.11 s later at 0.14 m/s. With `T_s² / 4` and `T_s² / 2` it
+//!   touches, with `T_s²` it does not (and no other PR2 or
+//!   MotionBenchMaker run touches while moving; the same strict successes).
+//!
+//! The reserve is negligible at ordinary speeds (1 rad/s on a 0.5 m chain:
+//! 0.5 m/s², 5 mm for a 0.1 s stop) and grows with the fourth power of the
+//! joint speed: before it, the gripper closed on a box at 0.36 m/s while
+//! the arm braked from 3.3 rad/s (PR2 industrial B 41), the approach speed
+//! rising from 0.11 m/s as the chain turned.
+//!
+//! A self pair keeps a quarter of it (`a T_s² / 4` of the two points'
+//! relative bend, the stop begun at once): both points ride the same
+//! chain, and with the full reserve a self pair at 32 mm asked the Panda
+//! for a retreat it could not make while it backed out of a box it
+//! started inside, and the arm stopped (`tests/avoid_escape.rs`).
 //!
 //! Only pairs whose obstacle does not close in keep the reserve: an
 //! obstacle that closes in is escaped (its guard asks for a retreat, and
@@ -29,6 +46,9 @@ use crate::control_point::DhPoint;
 use crate::error::FieldError;
 use crate::kinematics::{Frames, Robot};
 use crate::skeleton::Skeleton;
+
+/// The share of the reserve a self pair keeps (see the module docs).
+const SELF_PAIR_SHARE: f64 = 0.25;
 
 /// Time step of the second difference (s).
 const H: f64 = 1e-3;
@@ -80,10 +100,55 @@ impl Bend {
         p: &GuardPair,
         braking: f64,
     ) -> Result<f64, FieldError> {
-        let mut a = self.acceleration(robot, frames, skeleton, (p.segment, p.fraction))?;
-        if let Some(other) = p.other {
-            a -= self.acceleration(robot, frames, skeleton, other)?;
-        }
-        Ok(a.length() * braking * braking / 4.0)
+        let a = self.acceleration(robot, frames, skeleton, (p.segment, p.fraction))?;
+        Ok(match p.other {
+            None => a.length() * braking * braking,
+            Some(other) => {
+                let relative = a - self.acceleration(robot, frames, skeleton, other)?;
+                relative.length() * braking * braking * SELF_PAIR_SHARE
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::presets::preset;
+
+    /// The planar arm's tip, only the first joint turning at `ω`: the bend
+    /// is the centripetal `ω² r` (r = 0.9 m, the links in line), and the
+    /// reserve `ω² r T_s²`.
+    #[test]
+    fn the_reserve_is_the_centripetal_bend_over_the_stop_time_squared() -> Result<(), FieldError> {
+        let robot = Robot::from_spec(&preset("planar3")?)?;
+        let q = [0.3, 0.0, 0.0];
+        let frames = robot.forward(&q)?;
+        let skeleton = Skeleton::build(&robot, &frames);
+        let last = skeleton.segments.len() - 1;
+        let pair = GuardPair {
+            segment: last,
+            fraction: 1.0,
+            other: None,
+            normal: DVec3::X,
+            distance: 0.05,
+            obstacle_speed: 0.0,
+            obstacle: Some(0),
+            part: None,
+            contact: None,
+        };
+        let omega = 2.0;
+        let bend =
+            Bend::new(&robot, &q, &[omega, 0.0, 0.0]).ok_or(FieldError::new("q", "at rest"))?;
+        let braking = 0.2;
+        let reserve = bend.reserve(&robot, &frames, &skeleton, &pair, braking)?;
+        let expected = omega * omega * 0.9 * braking * braking;
+        assert!(
+            (reserve - expected).abs() < 1e-6 * expected,
+            "{reserve} vs {expected}"
+        );
+        // At rest there is no bend.
+        assert!(Bend::new(&robot, &q, &[0.0; 3]).is_none());
+        Ok(())
     }
 }
