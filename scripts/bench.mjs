@@ -29,6 +29,7 @@
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
+import v8 from 'node:v8';
 import { createRequire } from 'node:module';
 import { repo, run } from './lib.mjs';
 import { ensureTools } from './tools.mjs';
@@ -37,6 +38,15 @@ import { frameRows, frameTable } from './bench-frames.mjs';
 import { cameraTable } from './bench-camera.mjs';
 import { abTable } from './bench-ab.mjs';
 import { median, nativeRound as nativeRoundIn, stepAbTable, wasmControlStep, wasmMedian } from './bench-step-ab.mjs';
+
+// The wasm rounds time V8's optimising tier (TurboFan), as the native rounds
+// time optimised code: by default V8 first runs Liftoff's baseline code and
+// tiers a function up only after a budget of work, in the background; on a
+// loaded machine that took seconds (the 10-sphere control step ran at 90 µs
+// per step before it reached 12 µs), so rounds timed Liftoff code and the
+// ratios scattered (2.1-3.4 on that row in three runs). Without Liftoff,
+// every function is compiled by TurboFan on its first call.
+v8.setFlagsFromString('--no-liftoff');
 
 const benches = fs
   .readdirSync(path.join(repo, 'crate', 'benches'))

@@ -128,9 +128,11 @@ function copy(from, to, files) {
  * The budget of the packed tarball, bytes: 2.30 MB with the two builds (web
  * and Node), 5.21 MB with the compat entries' inlined copy of the web wasm
  * (2.9 MB more: base64 compresses less well than the binary), measured
- * 2026-11-24.
+ * 2026-11-24; 6.26 MB on 2026-11-28 once the Node module was built for speed
+ * (scripts/build.mjs: 1.42 MB of it gzipped, 0.43 MB more than at LLVM's
+ * default inlining; about 5.83 MB without that).
  */
-const PACKED_BUDGET = 6_000_000;
+const PACKED_BUDGET = 6_500_000;
 
 export function buildPackage({ build = true } = {}) {
   if (build && (buildWasm('node') !== 0 || buildWasm('web') !== 0)) return null;

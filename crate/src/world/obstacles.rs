@@ -194,13 +194,24 @@ impl ObstacleState {
     /// each with its motion: the figure translated, or the human posed at
     /// `t`.
     pub(super) fn parts_at(&self, t: f64, off: DVec3, v: DVec3) -> Vec<(Primitive, PartMotion)> {
+        let mut parts = Vec::new();
+        self.parts_into(t, off, v, &mut parts);
+        parts
+    }
+
+    /// [`Self::parts_at`] into `parts` (cleared first), so that the scene
+    /// rebuilt every control step reuses one buffer.
+    pub(super) fn parts_into(
+        &self,
+        t: f64,
+        off: DVec3,
+        v: DVec3,
+        parts: &mut Vec<(Primitive, PartMotion)>,
+    ) {
+        parts.clear();
         match self.human.as_ref().filter(|h| h.animated()) {
-            Some(h) => h
-                .posed_at(t, off, v)
-                .parts
-                .iter()
-                .zip(&self.parts)
-                .map(|(p, rest)| {
+            Some(h) => parts.extend(h.posed_at(t, off, v).parts.iter().zip(&self.parts).map(
+                |(p, rest)| {
                     let shape = Primitive::from_spec(&p.shape).unwrap_or_else(|_| rest.clone());
                     let (a, b) = axis(&p.shape);
                     let m = PartMotion {
@@ -210,20 +221,16 @@ impl ObstacleState {
                         vb: p.velocity[1],
                     };
                     (shape, m)
-                })
-                .collect(),
-            None => self
-                .parts
-                .iter()
-                .map(|p| {
-                    let shape = if off == DVec3::ZERO {
-                        p.clone()
-                    } else {
-                        p.translated(off)
-                    };
-                    (shape, PartMotion::rigid(v))
-                })
-                .collect(),
+                },
+            )),
+            None => parts.extend(self.parts.iter().map(|p| {
+                let shape = if off == DVec3::ZERO {
+                    p.clone()
+                } else {
+                    p.translated(off)
+                };
+                (shape, PartMotion::rigid(v))
+            })),
         }
     }
 
@@ -267,7 +274,8 @@ impl Sensed {
     /// errors), with the motion of every part (velocities from differences
     /// over `dt` of the obstacle's motion plus, for a human, its limbs').
     pub(super) fn rebuild_scene(&mut self, t: f64, sensed: bool, dt: f64) {
-        let mut obstacles = Vec::new();
+        let mut obstacles = Vec::with_capacity(self.scene.obstacles().len());
+        let mut parts = Vec::new();
         self.owners.clear();
         self.part_index.clear();
         self.part_motion.clear();
@@ -284,7 +292,8 @@ impl Sensed {
             let off = o.offset(seen) + noise;
             let v = o.velocity(seen, dt);
             let part_sigma = o.part_sigma().copied().filter(|_| sensed);
-            for (i, (mut shape, motion)) in o.parts_at(seen, off, v).into_iter().enumerate() {
+            o.parts_into(seen, off, v, &mut parts);
+            for (i, (mut shape, motion)) in parts.drain(..).enumerate() {
                 // A part seen with its own error moves by its own draw.
                 if let Some(s) = part_sigma
                     .and_then(|s| s.get(i).copied())

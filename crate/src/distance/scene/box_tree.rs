@@ -115,7 +115,9 @@ impl BoxTree {
 
     pub(super) fn build(bounds: &[Aabb], items: Vec<usize>) -> Self {
         let mut tree = Self {
-            nodes: Vec::new(),
+            // A binary tree with at least one item per leaf has fewer
+            // than 2n nodes: no regrowth while the scene is rebuilt.
+            nodes: Vec::with_capacity(2 * items.len()),
             items,
         };
         if !tree.items.is_empty() {

@@ -409,7 +409,11 @@ fn cast(shape: &Primitive, ray: &Ray, pick_radius: f64) -> Option<f64> {
 /// nodes are finite and its segments' node indices in range.
 fn volumes(skeleton: &Skeleton) -> Result<Vec<Primitive>, DistanceError> {
     for (k, p) in skeleton.nodes.iter().enumerate() {
-        finite3(&format!("skeleton.nodes[{k}]"), *p)?;
+        // The field's name is formatted only for a bad node: this runs
+        // every control step.
+        if !p.is_finite() {
+            finite3(&format!("skeleton.nodes[{k}]"), *p)?;
+        }
     }
     let mut volumes = Vec::with_capacity(skeleton.segments.len());
     for (k, s) in skeleton.segments.iter().enumerate() {
