@@ -195,9 +195,14 @@ pub fn step(robot: &Robot, q: &[f64], target: &[f64], motion: &mut JointMotion, 
 /// Options of [`step_with`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepOptions {
-    /// Every joint's acceleration further capped at this (a stop's
-    /// deceleration; default none).
+    /// Every joint's acceleration further capped at this (the torque
+    /// limits' share; default none).
     pub max_acceleration: f64,
+    /// A stop's gentle deceleration (default none): every joint's
+    /// acceleration capped at it too, except a joint held back by the
+    /// braking cap of a position limit, which must not be carried past
+    /// its limit by a gentle stop.
+    pub stop_deceleration: f64,
     /// Whether the joints approach the target together along a straight
     /// line (default); `false` lets each joint use its full limits (an
     /// emergency brake of the protective layer: fastest, not straight).
@@ -208,6 +213,7 @@ impl Default for StepOptions {
     fn default() -> Self {
         Self {
             max_acceleration: f64::INFINITY,
+            stop_deceleration: f64::INFINITY,
             synchronise: true,
         }
     }
@@ -222,7 +228,6 @@ pub fn step_with(
     dt: f64,
     options: &StepOptions,
 ) {
-    let max_acceleration = options.max_acceleration;
     let n = robot.dof();
     if motion.qdot.len() != n || motion.qddot.len() != n {
         *motion = JointMotion::rest(n);
@@ -230,7 +235,7 @@ pub fn step_with(
     let (lo, hi) = velocity_box(robot, q);
     let caps = braking_caps(robot, q);
     // A joint held back by the braking cap of a position limit brakes with
-    // its full acceleration, not its synchronised share.
+    // its full acceleration, not its synchronised share nor a stop's.
     let mut braking = vec![false; n];
     let want: Vec<f64> = (0..n)
         .map(|i| {
@@ -241,17 +246,24 @@ pub fn step_with(
             t.clamp(lo[i], hi[i])
         })
         .collect();
+    let cap = |i: usize| {
+        if braking[i] {
+            options.max_acceleration
+        } else {
+            options.max_acceleration.min(options.stop_deceleration)
+        }
+    };
     let longest = robot
         .joints
         .iter()
         .enumerate()
         .map(|(i, j)| {
-            let acc = j.max_acceleration.min(max_acceleration);
+            let acc = j.max_acceleration.min(cap(i));
             time_to_close(want[i] - motion.qdot[i], acc, j.max_jerk)
         })
         .fold(0.0, f64::max);
     for (i, j) in robot.joints.iter().enumerate() {
-        let limit = j.max_acceleration.min(max_acceleration);
+        let limit = j.max_acceleration.min(cap(i));
         let (v, a) = (motion.qdot[i], motion.qddot[i]);
         let e = want[i] - v;
         let share = if braking[i] || !options.synchronise {
@@ -322,13 +334,50 @@ mod tests {
         (q, m)
     }
 
+    /// A gentle stop (a chattering stop's `maxDeceleration`) with a joint
+    /// running towards its position limit: that joint brakes in time for
+    /// the limit, within its acceleration limit; the others keep the
+    /// gentle deceleration.
+    #[test]
+    fn a_gentle_stop_does_not_carry_a_joint_past_its_position_limit() {
+        let r = robot("lwr4");
+        let n = r.dof();
+        let dt = 0.005;
+        let gentle = 0.5;
+        let options = StepOptions {
+            stop_deceleration: gentle,
+            ..StepOptions::default()
+        };
+        let j0 = &r.joints[0];
+        // 0.3 rad/s towards the upper limit, 5 cm of room: a gentle stop
+        // needs 9 cm, the joint's own acceleration about 1 mm.
+        let mut q = vec![0.0; n];
+        q[0] = j0.max - 0.05;
+        let mut m = JointMotion::rest(n);
+        m.qdot[0] = 0.3;
+        m.qdot[1] = 0.3;
+        for _ in 0..400 {
+            let before = m.clone();
+            step_with(&r, &q, &vec![0.0; n], &mut m, dt, &options);
+            for (i, j) in r.joints.iter().enumerate() {
+                let acc = (m.qdot[i] - before.qdot[i]) / dt;
+                assert!(acc.abs() <= j.max_acceleration * (1.0 + 1e-9), "joint {i}: {acc}");
+                q[i] += m.qdot[i] * dt;
+                assert!(q[i] <= j.max && q[i] >= j.min, "joint {i} at {} past its limit", q[i]);
+            }
+            // The joint with room to spare keeps the gentle deceleration.
+            assert!((m.qdot[1] - before.qdot[1]).abs() <= gentle * dt * (1.0 + 1e-9));
+        }
+        assert_eq!(m.qdot[0], 0.0);
+    }
+
     #[test]
     fn a_zero_acceleration_cap_holds_the_velocity_without_nan() {
         let r = robot("lwr4");
         let n = r.dof();
         let options = StepOptions {
             max_acceleration: 0.0,
-            synchronise: true,
+            ..StepOptions::default()
         };
         let mut m = JointMotion::rest(n);
         step_with(&r, &vec![0.1; n], &vec![0.5; n], &mut m, 0.005, &options);

@@ -190,7 +190,11 @@ pub(super) fn hold_torque_limits(
             .iter()
             .map(|j| j.max_acceleration)
             .fold(0.0, f64::max);
-        let (mut lo, mut hi) = (0.0, top.min(options.max_acceleration));
+        let (mut lo, mut hi) = (
+            0.0,
+            top.min(options.max_acceleration)
+                .min(options.stop_deceleration),
+        );
         let try_cap = |cap: f64, motion: &mut JointMotion, tau: &mut Vec<f64>| {
             motion.clone_from(before);
             let capped = StepOptions {

@@ -16,7 +16,8 @@ pub(super) fn limit_and_integrate(model: &Model, state: &mut State, data: &mut S
         straight_to_the_joints(model, state, data, dt);
         return;
     }
-    // A chattering stop decelerates gently (`maxDeceleration`); a stop
+    // A chattering stop decelerates gently (`maxDeceleration`; a joint
+    // nearing a position limit still brakes in time for it); a stop
     // before an unavoidable contact and the emergency brake use the
     // full deceleration of the slowest joint. Every stop is
     // synchronised: the joint velocities shrink along one line to zero,
@@ -25,12 +26,12 @@ pub(super) fn limit_and_integrate(model: &Model, state: &mut State, data: &mut S
     // towards it: measured on the PR2 reach problems).
     let urgent = state.stop.braking || state.stop.reason == Some(StopReason::Unavoidable);
     let options = limits::StepOptions {
-        max_acceleration: if state.stop.stopped && !urgent {
+        stop_deceleration: if state.stop.stopped && !urgent {
             model.scenario.dependability.max_deceleration
         } else {
             f64::INFINITY
         },
-        synchronise: true,
+        ..limits::StepOptions::default()
     };
     super::dynamics::before_limit(model, state, data);
     limits::step_with(
