@@ -21,7 +21,10 @@
 //! 3. Per segment, `(r0, r1)` minimises the volume of its round cone
 //!    (frustum plus end balls, a convex function) over those half-planes:
 //!    for each `r0` the least feasible `r1` is explicit, and the convex
-//!    one-dimensional remainder is minimised by golden-section search. A
+//!    one-dimensional remainder is minimised by golden-section search, up
+//!    to the `r0` whose end ball alone outweighs the widest distance taken
+//!    as both radii (the best `r0` may exceed every vertex's distance when
+//!    it lets `r1` shrink: a part wide near its start, narrow at its end). A
 //!    row with one segment gets `radius: [r0, r1]`, a row with more the
 //!    per-segment form `{ d, a, extension }` (a segment no vertex goes to
 //!    keeps its radius).
