@@ -21,7 +21,10 @@
 //! 3. Per segment, `(r0, r1)` minimises the volume of its round cone
 //!    (frustum plus end balls, a convex function) over those half-planes:
 //!    for each `r0` the least feasible `r1` is explicit, and the convex
-//!    one-dimensional remainder is minimised by golden-section search. A
+//!    one-dimensional remainder is minimised by golden-section search, up
+//!    to the `r0` whose end ball alone outweighs the widest distance taken
+//!    as both radii (the best `r0` may exceed every vertex's distance when
+//!    it lets `r1` shrink: a part wide near its start, narrow at its end). A
 //!    row with one segment gets `radius: [r0, r1]`, a row with more the
 //!    per-segment form `{ d, a, extension }` (a segment no vertex goes to
 //!    keeps its radius).
@@ -180,7 +183,13 @@ impl RowProblem {
             .filter(|(t, _)| *t <= 1e-12)
             .map(|c| c.1)
             .fold(MIN_RADIUS, f64::max);
-        let hi = self.constraints.iter().map(|c| c.1).fold(lo, f64::max);
+        // The widest distance, as both radii, is feasible; no optimum has an
+        // `r0` whose end ball alone holds more volume than that pair's (the
+        // optimal `r0` may exceed the widest distance when it lets `r1`
+        // shrink, so the widest distance is no bound on its own).
+        let widest = self.constraints.iter().map(|c| c.1).fold(lo, f64::max);
+        let bound = row_volume(&self.lengths, widest, widest);
+        let hi = (1.5 * bound / std::f64::consts::PI).cbrt().max(widest);
         let f = |r0: f64| row_volume(&self.lengths, r0, self.r1_for(r0));
         let (mut a, mut b) = (lo, hi);
         let g = 0.5 * (5f64.sqrt() - 1.0);
@@ -376,4 +385,33 @@ fn behind_reach(
         .filter(|(link, _)| *link == row + 1)
         .flat_map(|(_, p)| p.iter().map(|p| (*p - a).dot(u)))
         .fold(0.0, f64::max))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A part wide near its start and narrow at its end: the least volume
+    /// takes `r0` past the widest distance so that `r1` can shrink (a
+    /// search bounded by the widest distance stopped at `r0 = r1 = 0.15`).
+    #[test]
+    fn the_least_volume_pair_may_start_wider_than_any_vertex() {
+        let p = RowProblem {
+            constraints: vec![(0.0, 0.15), (0.2, 0.15), (1.0, 0.05)],
+            lengths: vec![0.4],
+        };
+        let Some(([r0, r1], v)) = p.solve() else {
+            panic!("no pair");
+        };
+        for &(t, d) in &p.constraints {
+            assert!((1.0 - t) * r0 + t * r1 >= d, "({t}, {d}) outside {r0} {r1}");
+        }
+        assert!(r0 > 0.15 && r1 < 0.15, "{r0} {r1}");
+        let scanned = (0..=20_000)
+            .map(|i| 0.15 + 0.1 * f64::from(i) / 20_000.0)
+            .map(|x| row_volume(&p.lengths, x, p.r1_for(x)))
+            .fold(f64::INFINITY, f64::min);
+        assert!(v <= scanned + 1e-12, "{v} > {scanned}");
+        assert!(v < row_volume(&p.lengths, 0.15, 0.15));
+    }
 }
