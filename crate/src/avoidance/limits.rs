@@ -361,9 +361,16 @@ mod tests {
             step_with(&r, &q, &vec![0.0; n], &mut m, dt, &options);
             for (i, j) in r.joints.iter().enumerate() {
                 let acc = (m.qdot[i] - before.qdot[i]) / dt;
-                assert!(acc.abs() <= j.max_acceleration * (1.0 + 1e-9), "joint {i}: {acc}");
+                assert!(
+                    acc.abs() <= j.max_acceleration * (1.0 + 1e-9),
+                    "joint {i}: {acc}"
+                );
                 q[i] += m.qdot[i] * dt;
-                assert!(q[i] <= j.max && q[i] >= j.min, "joint {i} at {} past its limit", q[i]);
+                assert!(
+                    q[i] <= j.max && q[i] >= j.min,
+                    "joint {i} at {} past its limit",
+                    q[i]
+                );
             }
             // The joint with room to spare keeps the gentle deceleration.
             assert!((m.qdot[1] - before.qdot[1]).abs() <= gentle * dt * (1.0 + 1e-9));
