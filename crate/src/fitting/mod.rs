@@ -395,14 +395,12 @@ mod tests {
     /// takes `r0` past the widest distance so that `r1` can shrink (a
     /// search bounded by the widest distance stopped at `r0 = r1 = 0.15`).
     #[test]
-    fn the_least_volume_pair_may_start_wider_than_any_vertex() {
+    fn the_least_volume_pair_may_start_wider_than_any_vertex() -> Result<(), String> {
         let p = RowProblem {
             constraints: vec![(0.0, 0.15), (0.2, 0.15), (1.0, 0.05)],
             lengths: vec![0.4],
         };
-        let Some(([r0, r1], v)) = p.solve() else {
-            panic!("no pair");
-        };
+        let ([r0, r1], v) = p.solve().ok_or("no pair")?;
         for &(t, d) in &p.constraints {
             assert!((1.0 - t) * r0 + t * r1 >= d, "({t}, {d}) outside {r0} {r1}");
         }
@@ -413,5 +411,6 @@ mod tests {
             .fold(f64::INFINITY, f64::min);
         assert!(v <= scanned + 1e-12, "{v} > {scanned}");
         assert!(v < row_volume(&p.lengths, 0.15, 0.15));
+        Ok(())
     }
 }
