@@ -70,6 +70,7 @@ impl Frames {
     pub(super) fn compute(&mut self, robot: &Robot, q: &[f64], qdot: Option<&[f64]>) {
         let n = robot.dof();
         self.clear();
+        self.reserve(n, robot.chains.len(), qdot.is_some());
         self.convention = Some(robot.convention);
         self.transforms.push(robot.base);
         if let Some(qd) = qdot {
@@ -141,6 +142,26 @@ impl Frames {
         self.omega.clear();
         self.velocity.clear();
         self.qdot.clear();
+    }
+
+    /// Room for `n` rows and `chains` end effectors (and the velocities), so
+    /// that a new `Frames` allocates each list once instead of growing it
+    /// row by row (a no-op once the storage is there).
+    fn reserve(&mut self, n: usize, chains: usize, velocity: bool) {
+        self.transforms.reserve(n + 1);
+        self.starts.reserve(n);
+        self.mids.reserve(n);
+        self.d.reserve(n);
+        self.axis.reserve(n);
+        self.axis_point.reserve(n);
+        self.a_direction.reserve(n);
+        self.end_effectors.reserve(chains);
+        self.alpha_memo.reserve(n);
+        if velocity {
+            self.omega.reserve(n + 1);
+            self.velocity.reserve(n + 1);
+            self.qdot.reserve(n);
+        }
     }
 
     /// `(sin α, cos α)` of row `i`, computed again only when `α` changed.

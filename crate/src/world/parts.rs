@@ -126,6 +126,8 @@ pub(super) struct StepData {
 pub(super) struct GuardData {
     pub(super) guards: Vec<Guard>,
     pub(super) pairs: Vec<GuardPair>,
+    /// The bend reserve's frames, kept from step to step.
+    pub(super) bend: crate::avoidance::protect::Bend,
     /// This step's first guard with no admissible escape, and by how much
     /// the arm's approach exceeds its bound.
     pub(super) doomed: Option<(usize, f64)>,

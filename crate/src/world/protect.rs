@@ -213,9 +213,17 @@ pub(super) fn prepare_guards(
     data.readout.protection = super::pfl::protection_readout(model, state, data, dt);
     data.guard.stop_time = protect::stop_time(&data.guard.pairs, cfg, state.stop.stopped, dt);
     let mut guards = std::mem::take(&mut data.guard.guards);
+    let mut bend = std::mem::take(&mut data.guard.bend);
     let ctx = guard_context(model, state, data, dt);
-    data.guard.doomed = protect::prepare(&ctx, &data.guard.pairs, &data.slowdown, &mut guards)?;
+    let doomed = protect::prepare(
+        &ctx,
+        &data.guard.pairs,
+        &data.slowdown,
+        (&mut guards, &mut bend),
+    );
     data.guard.guards = guards;
+    data.guard.bend = bend;
+    data.guard.doomed = doomed?;
     Ok(())
 }
 

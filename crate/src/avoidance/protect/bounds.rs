@@ -72,11 +72,12 @@ pub fn admissible_box(robot: &Robot, q: &[f64], stop_time: f64) -> (Vec<f64>, Ve
     (lo, hi)
 }
 
-/// The guards of this step into `out` (before the control stage):
-/// protective bounds, dampers (in the `constraints` avoidance), the
-/// time-to-collision `slowdown` of each obstacle, and the escape from
-/// obstacles that close in faster than the arm could stop. Returns the
-/// first guard with no admissible escape and its excess (m/s), if any.
+/// The guards of this step into `out` (before the control stage; `bend`
+/// keeps the bend reserve's frames from step to step): protective
+/// bounds, dampers (in the `constraints` avoidance), the time-to-collision
+/// `slowdown` of each obstacle, and the escape from obstacles that close
+/// in faster than the arm could stop. Returns the first guard with no
+/// admissible escape and its excess (m/s), if any.
 ///
 /// # Errors
 /// A pair whose segment is not in the skeleton (a bug).
@@ -84,7 +85,7 @@ pub fn prepare(
     ctx: &GuardContext,
     pairs: &[GuardPair],
     slowdown: &[f64],
-    out: &mut Vec<Guard>,
+    (out, bend): (&mut Vec<Guard>, &mut super::Bend),
 ) -> Result<Option<(usize, f64)>, FieldError> {
     let cfg = ctx.config;
     let p = cfg.protective;
@@ -98,7 +99,7 @@ pub fn prepare(
             influence: cfg.influence_distance,
         }),
     };
-    guards(ctx, pairs, &bounds, out)?;
+    guards(ctx, pairs, &bounds, out, bend)?;
     let (lo, hi) = admissible_box(ctx.robot, ctx.q, ctx.stop_time);
     let mut doomed = None;
     for (k, g) in out.iter_mut().enumerate() {

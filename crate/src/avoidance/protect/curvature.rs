@@ -53,23 +53,37 @@ const SELF_PAIR_SHARE: f64 = 0.25;
 /// Time step of the second difference (s).
 const H: f64 = 1e-3;
 
-/// The frames a step ahead and behind along the current joint motion.
-pub(super) struct Bend {
+/// The frames a step ahead and behind along the current joint motion,
+/// kept from step to step so that computing them allocates nothing once
+/// the storage is there.
+#[derive(Clone, Debug, Default)]
+pub struct Bend {
     ahead: Frames,
     behind: Frames,
+    shifted: Vec<f64>,
 }
 
 impl Bend {
-    /// The frames at `q ± h q̇`; `None` at rest (no bend).
-    pub(super) fn new(robot: &Robot, q: &[f64], qdot: &[f64]) -> Option<Self> {
+    /// Computes the frames at `q ± h q̇`; `false` at rest (no bend) or for
+    /// a `q` the robot refuses.
+    pub(super) fn update(&mut self, robot: &Robot, q: &[f64], qdot: &[f64]) -> bool {
         if qdot.iter().all(|v| *v == 0.0) || qdot.len() != q.len() {
-            return None;
+            return false;
         }
-        let at = |s: f64| -> Vec<f64> { q.iter().zip(qdot).map(|(a, v)| a + s * H * v).collect() };
-        Some(Self {
-            ahead: robot.forward(&at(1.0)).ok()?,
-            behind: robot.forward(&at(-1.0)).ok()?,
-        })
+        for s in [1.0, -1.0] {
+            self.shifted.clear();
+            self.shifted
+                .extend(q.iter().zip(qdot).map(|(a, v)| a + s * H * v));
+            let frames = if s > 0.0 {
+                &mut self.ahead
+            } else {
+                &mut self.behind
+            };
+            if robot.forward_into(&self.shifted, frames).is_err() {
+                return false;
+            }
+        }
+        true
     }
 
     /// `J̇_θ q̇` at the point at `fraction` along `segment`.
@@ -138,8 +152,10 @@ mod tests {
             contact: None,
         };
         let omega = 2.0;
-        let bend =
-            Bend::new(&robot, &q, &[omega, 0.0, 0.0]).ok_or(FieldError::new("q", "at rest"))?;
+        let mut bend = Bend::default();
+        if !bend.update(&robot, &q, &[omega, 0.0, 0.0]) {
+            return Err(FieldError::new("q", "at rest"));
+        }
         let braking = 0.2;
         let reserve = bend.reserve(&robot, &frames, &skeleton, &pair, braking)?;
         let expected = omega * omega * 0.9 * braking * braking;
@@ -148,7 +164,7 @@ mod tests {
             "{reserve} vs {expected}"
         );
         // At rest there is no bend.
-        assert!(Bend::new(&robot, &q, &[0.0; 3]).is_none());
+        assert!(!bend.update(&robot, &q, &[0.0; 3]));
         Ok(())
     }
 }

@@ -69,6 +69,7 @@ pub mod pfl;
 mod project;
 
 pub use bounds::{GuardContext, Protection, admissible_box, prepare, protect, stop_time};
+pub use curvature::Bend;
 pub use pfl::BodyRegion;
 pub use project::{Projection, project};
 
@@ -356,7 +357,8 @@ fn pair_row(
 /// retreat faster than `withdraw_speed`: the arm backs out of an overlap
 /// at that speed instead of being asked the impossible. With a damper,
 /// each pair's [`Damper`] bound is [`Guard::soft`]. `ctx` gives the robot,
-/// its frames and its skeleton.
+/// its frames and its skeleton; `bend` keeps the frames of the bend
+/// reserve's second difference from call to call.
 ///
 /// # Errors
 /// A pair whose segment is not in the skeleton (a bug).
@@ -365,6 +367,7 @@ pub fn guards(
     pairs: &[GuardPair],
     bounds: &GuardBounds,
     out: &mut Vec<Guard>,
+    bend: &mut Bend,
 ) -> Result<(), FieldError> {
     let robot = ctx.robot;
     // The guards of the last call are written over (their rows' buffers
@@ -373,7 +376,7 @@ pub fn guards(
     let mut ja = PointJacobians::default();
     let mut jb = PointJacobians::default();
     let mut row = Vec::with_capacity(robot.dof());
-    let bend = curvature::Bend::new(robot, ctx.q, &ctx.motion.qdot);
+    let moving = bend.update(robot, ctx.q, &ctx.motion.qdot);
     for p in pairs {
         if let Err(e) = pair_row(ctx, p, (&mut ja, &mut jb), &mut row) {
             out.truncate(used);
@@ -381,11 +384,10 @@ pub fn guards(
         }
         // The bend of the arm's own path towards a still (or receding)
         // obstacle; an obstacle closing in is escaped, at speed if need be.
-        let reserve = match &bend {
-            Some(b) if p.obstacle_speed <= 0.0 => {
-                b.reserve(robot, ctx.frames, ctx.skeleton, p, bounds.braking)?
-            }
-            _ => 0.0,
+        let reserve = if moving && p.obstacle_speed <= 0.0 {
+            bend.reserve(robot, ctx.frames, ctx.skeleton, p, bounds.braking)?
+        } else {
+            0.0
         };
         let (bound, soft) = bounds.of(p, reserve);
         // A guard the joints cannot reach within their speed limits can
