@@ -44,7 +44,7 @@ export function shrinkWasm(file, level = '-Oz') {
  * The release Node build's compiler settings. V8 does not inline calls
  * between wasm functions, so LLVM inlines more (threshold 1000 against its
  * default 250 at -O3): the Node module grows from 2.52 to 4.07 MB (0.99 to 1.42 MB
- * gzipped) and the control step gets faster (README, speed). The Node build
+ * gzipped) and the control step gets faster (docs/speed.md). The Node build
  * has no size budget of its own (the npm package's, scripts/package.mjs,
  * counts it); the web build keeps the default. `RUSTFLAGS` replaces
  * the config's flags, so it repeats `+simd128` from .cargo/config.toml; the
