@@ -222,6 +222,7 @@ pub(super) fn prepare_guards(
         (&mut guards, &mut bend),
     );
     data.guard.guards = guards;
+    data.guard.stop_time = data.guard.stop_time.min(bend.stop_time);
     data.guard.bend = bend;
     data.guard.doomed = doomed?;
     Ok(())

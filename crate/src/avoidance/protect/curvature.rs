@@ -36,6 +36,18 @@
 //! the escape may need the joints' speed), and a reserve there turned
 //! escapes from a passing ball into stops (`tests/hold_drift.rs`).
 //!
+//! A reserve alone cannot slow the arm's sideways motion, which is what
+//! bends its path: the guard only bounds the approach along the normal.
+//! On MotionBenchMaker's box 31 the paper's repulsion had run the Panda at
+//! 5.2 rad/s (norm of `q̇`) sideways past a box 38 mm off; the reserve
+//! there exceeded the room and the guard asked for a retreat, but braking
+//! from that speed took 50 steps and the path curved onto the box
+//! meanwhile (−0.11 mm). So a reserve that takes more than half its room
+//! also caps the joints' stop time ([`Bend::cap`]), which caps their
+//! speeds through the admissible velocity box. Not while the arm backs
+//! out of an overlap (the escape comes first), and not for a pair that
+//! power and force limiting lets touch.
+//!
 //! `J̇_θ q̇` is the second difference of the material point's position
 //! along the motion: `(p(q + h q̇) − 2 p(q) + p(q − h q̇)) / h²`.
 
@@ -61,12 +73,17 @@ pub struct Bend {
     ahead: Frames,
     behind: Frames,
     shifted: Vec<f64>,
+    /// The stop time within which the joints must be able to stop for
+    /// every reserve to stay within half its room (s; `∞`: no such cap),
+    /// see [`Bend::cap`].
+    pub stop_time: f64,
 }
 
 impl Bend {
     /// Computes the frames at `q ± h q̇`; `false` at rest (no bend) or for
     /// a `q` the robot refuses.
     pub(super) fn update(&mut self, robot: &Robot, q: &[f64], qdot: &[f64]) -> bool {
+        self.stop_time = f64::INFINITY;
         if qdot.iter().all(|v| *v == 0.0) || qdot.len() != q.len() {
             return false;
         }
@@ -84,6 +101,19 @@ impl Bend {
             }
         }
         true
+    }
+
+    /// Lowers [`Bend::stop_time`] for a pair whose `reserve` (m, over a
+    /// stop of `braking` s) takes more than half of its `room` (clearance
+    /// less the safety distance, m): the bend grows with the square of the
+    /// joint speeds and the stop time with their first power, so capping
+    /// the stop time at `T_s (room / 2 reserve)^¼` brings the reserve back
+    /// to half the room.
+    pub(super) fn cap(&mut self, reserve: f64, room: f64, braking: f64) {
+        if room > 0.0 && reserve > 0.5 * room {
+            let t = braking * (room / (2.0 * reserve)).powf(0.25);
+            self.stop_time = self.stop_time.min(t);
+        }
     }
 
     /// `J̇_θ q̇` at the point at `fraction` along `segment`.

@@ -377,6 +377,8 @@ pub fn guards(
     let mut jb = PointJacobians::default();
     let mut row = Vec::with_capacity(robot.dof());
     let moving = bend.update(robot, ctx.q, &ctx.motion.qdot);
+    let safety = bounds.config.safety_distance;
+    let escaping = pairs.iter().any(|p| p.distance <= safety);
     for p in pairs {
         if let Err(e) = pair_row(ctx, p, (&mut ja, &mut jb), &mut row) {
             out.truncate(used);
@@ -389,6 +391,9 @@ pub fn guards(
         } else {
             0.0
         };
+        if !escaping && p.other.is_none() && p.contact.is_none() {
+            bend.cap(reserve, p.distance - safety, bounds.braking);
+        }
         let (bound, soft) = bounds.of(p, reserve);
         // A guard the joints cannot reach within their speed limits can
         // never be active, and one no joint can act on cannot be helped:
