@@ -413,7 +413,7 @@ fn each_arm_of_the_torso_reaches_its_own_goal() {
 /// The paper's repulsion on MotionBenchMaker's box 31 runs the Panda at
 /// 5 rad/s sideways past a box 38 mm off: the bend of that path alone
 /// brought the arm onto the box while it braked (−0.11 mm at 0.08 m/s).
-/// A bend reserve over half its room caps the joints' stop time, and the
+/// A bend reserve larger than its room caps the joints' stop time, and the
 /// pass stays clear (`avoidance/protect/curvature.rs`).
 #[test]
 fn a_fast_sideways_pass_does_not_bend_onto_a_box() {

@@ -42,9 +42,9 @@
 //! 5.2 rad/s (norm of `q̇`) sideways past a box 38 mm off; the reserve
 //! there exceeded the room and the guard asked for a retreat, but braking
 //! from that speed took 50 steps and the path curved onto the box
-//! meanwhile (−0.11 mm). So a reserve that takes more than half its room
-//! also caps the joints' stop time ([`Bend::cap`]), which caps their
-//! speeds through the admissible velocity box. Not while the arm backs
+//! meanwhile (−0.11 mm). So a reserve larger than its room also caps the
+//! joints' stop time ([`Bend::cap`]), which caps their speeds through the
+//! admissible velocity box. Not while the arm backs
 //! out of an overlap (the escape comes first), and not for a pair that
 //! power and force limiting lets touch.
 //!
@@ -73,9 +73,8 @@ pub struct Bend {
     ahead: Frames,
     behind: Frames,
     shifted: Vec<f64>,
-    /// The stop time within which the joints must be able to stop for
-    /// every reserve to stay within half its room (s; `∞`: no such cap),
-    /// see [`Bend::cap`].
+    /// The stop time within which the joints must be able to stop for the
+    /// reserves to fit their room (s; `∞`: no such cap), see [`Bend::cap`].
     pub stop_time: f64,
 }
 
@@ -104,13 +103,12 @@ impl Bend {
     }
 
     /// Lowers [`Bend::stop_time`] for a pair whose `reserve` (m, over a
-    /// stop of `braking` s) takes more than half of its `room` (clearance
-    /// less the safety distance, m): the bend grows with the square of the
-    /// joint speeds and the stop time with their first power, so capping
-    /// the stop time at `T_s (room / 2 reserve)^¼` brings the reserve back
-    /// to half the room.
+    /// stop of `braking` s) exceeds its `room` (clearance less the safety
+    /// distance, m): the bend grows with the square of the joint speeds and
+    /// the stop time with their first power, so capping the stop time at
+    /// `T_s (room / 2 reserve)^¼` brings the reserve down to half the room.
     pub(super) fn cap(&mut self, reserve: f64, room: f64, braking: f64) {
-        if room > 0.0 && reserve > 0.5 * room {
+        if room > 0.0 && reserve > room {
             let t = braking * (room / (2.0 * reserve)).powf(0.25);
             self.stop_time = self.stop_time.min(t);
         }
