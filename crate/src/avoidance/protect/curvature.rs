@@ -74,7 +74,7 @@ pub struct Bend {
     behind: Frames,
     shifted: Vec<f64>,
     /// The stop time within which the joints must be able to stop for the
-    /// reserves to fit their room (s; `∞`: no such cap), see [`Bend::cap`].
+    /// reserves to fit their room (s; `∞`: no such cap), see the module docs.
     pub stop_time: f64,
 }
 
