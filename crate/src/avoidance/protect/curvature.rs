@@ -44,8 +44,8 @@
 //! from that speed took 50 steps and the path curved onto the box
 //! meanwhile (−0.11 mm). So a reserve larger than its room also caps the
 //! joints' stop time ([`Bend::cap`]), which caps their speeds through the
-//! admissible velocity box. Not while the arm backs
-//! out of an overlap (the escape comes first), and not for a pair that
+//! admissible velocity box. Not while the arm backs out of an overlap
+//! (the escape comes first), not for a self pair, and not for a pair that
 //! power and force limiting lets touch.
 //!
 //! `J̇_θ q̇` is the second difference of the material point's position
@@ -68,7 +68,7 @@ const H: f64 = 1e-3;
 /// The frames a step ahead and behind along the current joint motion,
 /// kept from step to step so that computing them allocates nothing once
 /// the storage is there.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Bend {
     ahead: Frames,
     behind: Frames,
@@ -76,6 +76,17 @@ pub struct Bend {
     /// The stop time within which the joints must be able to stop for the
     /// reserves to fit their room (s; `∞`: no such cap), see the module docs.
     pub stop_time: f64,
+}
+
+impl Default for Bend {
+    fn default() -> Self {
+        Self {
+            ahead: Frames::default(),
+            behind: Frames::default(),
+            shifted: Vec::new(),
+            stop_time: f64::INFINITY,
+        }
+    }
 }
 
 impl Bend {
