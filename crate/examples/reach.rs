@@ -37,7 +37,22 @@ fn run_all(
 ) -> Result<Vec<(Outcome, f64)>, Box<dyn std::error::Error>> {
     let mut out = Vec::new();
     for p in problems {
-        let p = controller.problem(p);
+        let t_plan = Instant::now();
+        let (p, plan) = controller.guided(p);
+        let plan_ms = t_plan.elapsed().as_secs_f64() * 1e3;
+        if verbose && let Some(plan) = &plan {
+            match plan {
+                Ok(plan) => println!(
+                    "{:<28} plan: {} configurations ({} escaping), {:.2} s, {} evaluations, {plan_ms:.0} ms",
+                    p.name,
+                    plan.configurations.len(),
+                    plan.escape,
+                    plan.times.last().copied().unwrap_or(0.0),
+                    plan.evaluations
+                ),
+                Err(e) => println!("{:<28} plan: none ({e}), {plan_ms:.0} ms", p.name),
+            }
+        }
         let t0 = Instant::now();
         let o = reach::run(&p)?;
         let us = t0.elapsed().as_secs_f64() * 1e6 / o.steps.max(1) as f64;

@@ -22,7 +22,7 @@
 //! | [`avoidance`] | control-point selection, repulsion, velocity / torque (on the robot's own `M(q)`, gravity and Coriolis compensated) / second-order CLIK controllers with task priority and joint weights, the constraints that bring their own QP rows (`rows`: limits and tasks), the QP and its assembler, NEO as a baseline controller (`neo`), the protective layer (separation monitoring, or ISO/TS 15066 power and force limiting) and the jerk-limited joint limiter | §II, §III-A |
 //! | [`dependability`] | sensing models, first-order uncertainty propagation, switch probability, chattering (stop or lock, every selection mode), time to collision, events | §IV |
 //! | [`human`] | the interacting human: an articulated body of capsules sized by anthropometric proportions, posed by joint angles, keyframes or a motion library, with every part's velocity | §II |
-//! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4), validation with JSON paths, the shipped examples, the motion audit (velocity, acceleration, jerk, torque) | — |
+//! | [`scenario`] | scenario and trace types, tasks (one per chain; the sliding `point` task of eq. 4; a joint-space path, `joint_path`), validation with JSON paths, the shipped examples, the motion audit (velocity, acceleration, jerk, torque) | — |
 //! | [`world`] | a live simulation: the control step as a pipeline of stages, torque limits held in every motion, obstacle edits, picking, a person streamed from a sensor (stale parts' margins grown at a person's speed), `simulate` | §IV |
 //! | [`study`] | Monte Carlo studies: many runs of a scenario with independent sensing seeds, reduced to distributions (clearance quantiles, probabilities of contact, stop, chattering), in parallel with the feature `parallel`, merged from shards | §IV |
 //! | [`linalg`] | small dense matrices, symmetric eigen-decomposition, the weighted damped least-squares inverse; depends on nothing else in the crate | §III-A |
@@ -31,6 +31,7 @@
 //! | [`parsers`] | readers of files: URDF and SRDF, meshes (STL, OBJ, COLLADA, glTF), keypoint tracks (JSON, CSV) and BVH motion capture | — |
 //! | [`mesh`] | the triangle mesh (`TriMesh`): scale and origin, bounds, enclosed volume, area, simplification for drawing | — |
 //! | [`fitting`] | skeleton volumes fitted to collision meshes, their coverage and excess; a URDF with its mesh files | — |
+//! | [`plan`] | global guidance: a joint-space path to a goal configuration (RRT-Connect, segments certified clear by a Lipschitz bound, shortcut, timed within the limits), followed as a `joints` task | — |
 //! | [`reach`] | reach problems (NEO's PR2 scenes, seeded Panda problems, MotionBenchMaker's Panda problems) judged by one evaluator, for the reach benchmark; the sets by name as plain data | — |
 //! | [`rng`] | a seeded generator (xoshiro256**), the same bits on every target | — |
 //! | [`workloads`] | fixed workloads shared by the native and the wasm benchmarks | — |
@@ -76,6 +77,7 @@ pub mod linalg;
 pub mod math;
 pub mod mesh;
 pub mod parsers;
+pub mod plan;
 pub mod reach;
 pub mod rng;
 pub mod scenario;

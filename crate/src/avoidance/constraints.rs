@@ -61,8 +61,8 @@ use super::protect::Guard;
 use super::qp::Workspace;
 use super::qp::assemble::{Stack, solve_stacked};
 use super::rows::{
-    JointBox, Limit, LimitContext, ProtectiveBound, SelfPairs, TaskContext, VelocityDamper,
-    stack_tasks,
+    JointBox, JointTarget, Limit, LimitContext, ProtectiveBound, SelfPairs, TaskContext,
+    VelocityDamper, stack_tasks,
 };
 use super::{ControllerConfig, TaskReference};
 use crate::error::FieldError;
@@ -84,6 +84,8 @@ pub struct ConstraintsInput<'a> {
     pub stop_time: f64,
     /// This step's task references.
     pub tasks: &'a [TaskReference],
+    /// This step's joint-space reference (the `joints` task), if any.
+    pub joints: Option<JointTarget<'a>>,
     /// This step's guards ([`super::protect::prepare`]).
     pub guards: &'a [Guard],
     /// The controller.
@@ -108,6 +110,7 @@ pub fn constrained_velocity(
         frames: input.frames,
         config,
         gain: config.task_gain,
+        joints: input.joints,
     };
     let tasks = stack_tasks(&task_context, input.tasks)?;
     let guards = input.guards;

@@ -92,6 +92,7 @@ pub fn velocity_control(
         frames,
         config,
         gain: config.task_gain,
+        joints: None,
     };
     let level = stack_tasks(&ctx, tasks)?;
     let alone = prioritized(&[(&level.jac, &level.rhs)], n, config, None);
@@ -139,6 +140,7 @@ fn task_bias(
         frames: &f2,
         config,
         gain: 0.0,
+        joints: None,
     };
     let later = stack_tasks(&ctx, tasks)?;
     let mut out = vec![0.0; level.jac.rows];
@@ -178,6 +180,7 @@ pub fn clik2_control(
         frames,
         config,
         gain: 0.0,
+        joints: None,
     };
     let level = stack_tasks(&ctx, tasks)?;
     let v = level.jac.mul_vec(qdot);

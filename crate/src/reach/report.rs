@@ -14,6 +14,8 @@
 
 use super::{Outcome, Problem};
 use crate::avoidance::Avoidance;
+use crate::error::FieldError;
+use crate::plan::{Plan, PlanOptions, plan_path};
 use crate::scenario::Scenario;
 
 /// A controller of the report.
@@ -27,15 +29,20 @@ pub enum Controller {
     Neo,
     /// NEO's command through the library's jerk-limited limiter.
     NeoLimited,
+    /// `constraints` following a planned joint-space path to the problem's
+    /// goal configuration ([`crate::plan`]); the goal pose alone when no
+    /// path is found.
+    Planned,
 }
 
 impl Controller {
     /// Every controller, in the report's order.
-    pub const ALL: [Self; 4] = [
+    pub const ALL: [Self; 5] = [
         Self::Constraints,
         Self::Repulsion,
         Self::Neo,
         Self::NeoLimited,
+        Self::Planned,
     ];
 
     /// Its name in the report (and on the command line).
@@ -46,6 +53,7 @@ impl Controller {
             Self::Repulsion => "repulsion",
             Self::Neo => "neo",
             Self::NeoLimited => "neo+limiter",
+            Self::Planned => "constraints+plan",
         }
     }
 
@@ -59,7 +67,7 @@ impl Controller {
     pub fn apply(self, scenario: &mut Scenario) {
         let c = &mut scenario.controller;
         c.avoidance = match self {
-            Self::Constraints => Avoidance::Constraints,
+            Self::Constraints | Self::Planned => Avoidance::Constraints,
             Self::Repulsion => Avoidance::Repulsion,
             Self::Neo | Self::NeoLimited => Avoidance::Neo,
         };
@@ -69,9 +77,30 @@ impl Controller {
     /// `problem` driven by this controller.
     #[must_use]
     pub fn problem(self, problem: &Problem) -> Problem {
+        self.guided(problem).0
+    }
+
+    /// `problem` driven by this controller, and for [`Self::Planned`] the
+    /// plan it follows (or why there is none: the goal pose is then
+    /// reached for reactively).
+    #[must_use]
+    pub fn guided(self, problem: &Problem) -> (Problem, Option<Result<Plan, FieldError>>) {
         let mut p = problem.clone();
         self.apply(&mut p.scenario);
-        p
+        if self != Self::Planned {
+            return (p, None);
+        }
+        let plan = match &p.goal_q {
+            Some(goal) => plan_path(&p.scenario, goal, &PlanOptions::default()),
+            None => Err(FieldError::new(
+                "goalQ",
+                "the problem has no goal configuration",
+            )),
+        };
+        if let Ok(plan) = &plan {
+            p.scenario.task = plan.task();
+        }
+        (p, Some(plan))
     }
 }
 

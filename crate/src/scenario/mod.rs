@@ -25,6 +25,7 @@ use crate::kinematics::{Robot, RobotSpec, presets};
 pub mod bounds;
 mod camera;
 mod examples;
+pub mod joint_path;
 mod obstacle;
 mod sensing;
 mod tagged;
@@ -241,6 +242,13 @@ impl Scenario {
         }
         self.task.validate(&robot).map_err(|e| e.within("task"))?;
         validate_controller(&self.controller, &robot).map_err(|e| e.within("controller"))?;
+        if self.task.in_joint_space() && !self.controller.uses_constraints() {
+            return Err(FieldError::new(
+                "task.type",
+                "a joints task needs controller.avoidance \"constraints\" (velocity mode)",
+            )
+            .into());
+        }
         if let Some(d) = &self.sensing.default {
             d.validate().map_err(|e| e.within("sensing.default"))?;
         }

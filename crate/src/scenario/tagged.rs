@@ -153,7 +153,7 @@ pub(super) struct TaskKinds;
 
 impl Kinds for TaskKinds {
     const WHAT: &'static str = "task";
-    const KINDS: &'static [&'static str] = &["hold", "goal", "trajectory", "point"];
+    const KINDS: &'static [&'static str] = &["hold", "goal", "trajectory", "point", "joints"];
 }
 
 /// Every key any task uses; see [`TaskSpec`].
@@ -167,6 +167,7 @@ pub(super) struct TaskFields {
     chain: Option<usize>,
     points: Option<Vec<[f64; 3]>>,
     times: Option<Vec<f64>>,
+    configurations: Option<Vec<Vec<f64>>>,
     link: Option<usize>,
     from: Option<DhValues>,
     to: Option<DhValues>,
@@ -185,6 +186,7 @@ impl TryFrom<TaskFields> for TaskSpec {
             ("chain", f.chain.is_some()),
             ("points", f.points.is_some()),
             ("times", f.times.is_some()),
+            ("configurations", f.configurations.is_some()),
             ("link", f.link.is_some()),
             ("from", f.from.is_some()),
             ("to", f.to.is_some()),
@@ -195,6 +197,7 @@ impl TryFrom<TaskFields> for TaskSpec {
             "hold" => (&[], &[]),
             "goal" => (&["position"], &["orientation", "chain"]),
             "trajectory" => (&["points", "times"], &["chain"]),
+            "joints" => (&["configurations", "times"], &[]),
             _ => (&["link", "from", "to", "duration"], &["start", "position"]),
         };
         fit_fields("task", kind, &present, required, optional)?;
@@ -209,6 +212,10 @@ impl TryFrom<TaskFields> for TaskSpec {
                 points: f.points.ok_or(MISSING)?,
                 times: f.times.ok_or(MISSING)?,
                 chain: f.chain.unwrap_or(0),
+            },
+            "joints" => Self::Joints {
+                configurations: f.configurations.ok_or(MISSING)?,
+                times: f.times.ok_or(MISSING)?,
             },
             _ => Self::Point {
                 link: f.link.ok_or(MISSING)?,

@@ -92,6 +92,16 @@ pub enum TaskSpec {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         position: Option<[f64; 3]>,
     },
+    /// Follow a path in joint space: be at `configurations[k]` at
+    /// `times[k]` (s), at rest there, on the straight segments between
+    /// them (see `joint_path.rs`). Drives every joint, so it is the only
+    /// task; the `constraints` avoidance only.
+    Joints {
+        /// Configurations, one value per joint (rad or m).
+        configurations: Vec<Vec<f64>>,
+        /// Times (s, ≥ 0, increasing), one per configuration.
+        times: Vec<f64>,
+    },
 }
 
 /// The scenario's `task` field: one task or a list (at most one per chain).
@@ -118,7 +128,7 @@ impl From<TaskSpec> for Tasks {
 
 /// The quintic `s(u) = 10u³ − 15u⁴ + 6u⁵` and its first two derivatives in
 /// time, for `u = (t − start) / duration` clamped into `[0, 1]`.
-fn quintic(t: f64, start: f64, duration: f64) -> (f64, f64, f64) {
+pub(super) fn quintic(t: f64, start: f64, duration: f64) -> (f64, f64, f64) {
     let u = ((t - start) / duration).clamp(0.0, 1.0);
     let (u2, u3) = (u * u, u * u * u);
     let s = u3 * (10.0 - 15.0 * u + 6.0 * u2);
@@ -132,7 +142,7 @@ impl TaskSpec {
     #[must_use]
     pub fn chain(&self, robot: &Robot) -> usize {
         match self {
-            Self::Hold => 0,
+            Self::Hold | Self::Joints { .. } => 0,
             Self::Goal { chain, .. } | Self::Trajectory { chain, .. } => *chain,
             Self::Point { link, .. } => robot
                 .chains
@@ -170,6 +180,10 @@ impl TaskSpec {
                 check_chain(*chain, robot)?;
                 check_timed_points(points, times, TimeOrder::Increasing)
             }
+            Self::Joints {
+                configurations,
+                times,
+            } => super::joint_path::validate(robot, configurations, times),
             Self::Point {
                 link,
                 from,
@@ -267,6 +281,12 @@ impl Tasks {
                 Self::Many(_) => e.within(&format!("[{k}]")),
             };
             t.validate(robot).map_err(within)?;
+            if matches!(t, TaskSpec::Joints { .. }) && self.as_slice().len() > 1 {
+                return Err(within(FieldError::new(
+                    "type",
+                    "a joints task drives every joint: it must be the only task",
+                )));
+            }
             let c = t.chain(robot);
             if std::mem::replace(&mut used[c], true) {
                 return Err(within(FieldError::new(
@@ -320,6 +340,10 @@ impl Tasks {
     ) {
         out.clear();
         for (k, task) in self.as_slice().iter().enumerate() {
+            if matches!(task, TaskSpec::Joints { .. }) {
+                // Not a Cartesian reference: see `joint_reference`.
+                continue;
+            }
             let (anchor, rotation) = anchors.get(k).copied().unwrap_or((DVec3::ZERO, None));
             let mut r = TaskReference {
                 position: anchor,
@@ -331,7 +355,7 @@ impl Tasks {
             };
             match task {
                 TaskSpec::Hold => r.orientation = rotation.filter(|_| hold_orientation),
-                TaskSpec::Point { .. } => {}
+                TaskSpec::Point { .. } | TaskSpec::Joints { .. } => {}
                 TaskSpec::Goal {
                     position,
                     orientation,
@@ -357,6 +381,34 @@ impl Tasks {
             }
             out.push(r);
         }
+    }
+}
+
+impl Tasks {
+    /// The `joints` task's reference at time `t` into `q` and `qdot`
+    /// (see `joint_path.rs`); `false` (and both left empty) without one.
+    pub fn joint_reference(&self, t: f64, q: &mut Vec<f64>, qdot: &mut Vec<f64>) -> bool {
+        for task in self.as_slice() {
+            if let TaskSpec::Joints {
+                configurations,
+                times,
+            } = task
+            {
+                super::joint_path::reference_at(configurations, times, t, q, qdot);
+                return true;
+            }
+        }
+        q.clear();
+        qdot.clear();
+        false
+    }
+
+    /// Whether one of the tasks is a `joints` task.
+    #[must_use]
+    pub fn in_joint_space(&self) -> bool {
+        self.as_slice()
+            .iter()
+            .any(|t| matches!(t, TaskSpec::Joints { .. }))
     }
 }
 

@@ -31,7 +31,7 @@ fn link_adjacency(robot: &Robot) -> Vec<Vec<bool>> {
 /// ([`link_adjacency`]), the robot's and the controller's
 /// `selfCollisionExclude`, and pairs no joint can move apart or together
 /// ([`fixed_link_pairs`]).
-pub(super) fn self_pairs_left_out(
+pub(crate) fn self_pairs_left_out(
     robot: &Robot,
     controller: &ControllerConfig,
 ) -> Result<Vec<Vec<bool>>, FieldError> {

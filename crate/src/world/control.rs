@@ -6,6 +6,7 @@
 use super::parts::{Model, State, StepData};
 use crate::avoidance::constraints::{ConstraintsInput, constrained_velocity};
 use crate::avoidance::neo::{NeoInput, neo_velocity};
+use crate::avoidance::rows::JointTarget;
 use crate::avoidance::{self, ActivePoint, Mode};
 use crate::error::FieldError;
 
@@ -28,6 +29,8 @@ pub(super) fn control(
         &mut refs,
     );
     data.references = refs;
+    let (jq, jv) = &mut data.joint_reference;
+    let in_joints = model.scenario.task.joint_reference(state.t, jq, jv);
     if cfg.uses_constraints() {
         let input = ConstraintsInput {
             robot: &model.robot,
@@ -35,6 +38,11 @@ pub(super) fn control(
             q: &state.q,
             stop_time: data.guard.stop_time,
             tasks: &data.references,
+            joints: in_joints.then_some(JointTarget {
+                q: &data.joint_reference.0,
+                qdot: &data.joint_reference.1,
+                now: &state.q,
+            }),
             guards: &data.guard.guards,
             config: cfg,
         };

@@ -87,7 +87,7 @@ mod step;
 mod tracker;
 mod uncertainty;
 
-use adjacency::self_pairs_left_out;
+pub(crate) use adjacency::self_pairs_left_out;
 use obstacles::ObstacleState;
 use parts::{EventLog, GuardData, Model, Propagation, Readout, Sensed, State, StepData, StopState};
 pub use pfl::ProtectionReadout;
@@ -203,6 +203,7 @@ impl World {
                 frames,
                 skeleton,
                 references: Vec::new(),
+                joint_reference: (Vec::new(), Vec::new()),
                 slowdown: Vec::new(),
                 request: Vec::new(),
                 guard: GuardData {

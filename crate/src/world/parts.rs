@@ -110,6 +110,8 @@ pub(super) struct StepData {
     pub(super) frames: Frames,
     pub(super) skeleton: Skeleton,
     pub(super) references: Vec<TaskReference>,
+    /// The `joints` task's reference now (`q`, `q̇`; empty without one).
+    pub(super) joint_reference: (Vec<f64>, Vec<f64>),
     /// Per obstacle, the factor on the arm's allowed approach speed when a
     /// transition plus braking would not end before contact (1: none).
     pub(super) slowdown: Vec<f64>,

@@ -212,6 +212,7 @@ pub fn neo_velocity(
         frames: input.frames,
         config: input.config,
         gain: cfg.task_gain,
+        joints: None,
     };
     let tasks = stack_tasks(&task_context, input.tasks)?;
     let error = tasks.rhs.iter().map(|v| v.abs()).sum::<f64>() / cfg.task_gain;

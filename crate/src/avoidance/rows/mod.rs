@@ -180,6 +180,20 @@ pub struct TaskContext<'a> {
     /// Gain `K` (1/s) on the position error of the tasks' right-hand side
     /// (`ṗ_d + K (p_d − p)`; 0 for the rows alone).
     pub gain: f64,
+    /// A joint-space reference (the `joints` task), if any.
+    pub joints: Option<JointTarget<'a>>,
+}
+
+/// A joint-space reference: one row per joint, `q̇ ≈ q̇_ref + K (q_ref − q)`
+/// (the scenario's `joints` task).
+#[derive(Clone, Copy, Debug)]
+pub struct JointTarget<'a> {
+    /// `q_ref`.
+    pub q: &'a [f64],
+    /// `q̇_ref`.
+    pub qdot: &'a [f64],
+    /// The joints now.
+    pub now: &'a [f64],
 }
 
 /// Task rows `J q̇ ≈ v`, stacked: `J` row-major with one column per joint.
@@ -226,9 +240,18 @@ pub trait Task {
 /// A reference on a chain that does not exist.
 pub fn stack_tasks(ctx: &TaskContext, tasks: &[TaskReference]) -> Result<TaskRows, FieldError> {
     let mut out = TaskRows::new(ctx.robot.dof());
-    let rows: usize = tasks.iter().map(TaskReference::rows).sum();
-    out.jac.data.reserve(rows * ctx.robot.dof());
+    let n = ctx.robot.dof();
+    let rows = tasks.iter().map(TaskReference::rows).sum::<usize>() + ctx.joints.map_or(0, |_| n);
+    out.jac.data.reserve(rows * n);
     out.rhs.reserve(rows);
+    if let Some(j) = ctx.joints {
+        let r0 = out.add_rows(n);
+        for (k, ((q, v), now)) in j.q.iter().zip(j.qdot).zip(j.now).take(n).enumerate() {
+            out.jac.set(r0 + k, k, 1.0);
+            out.rhs.push(v + ctx.gain * (q - now));
+        }
+        out.rhs.resize(r0 + n, 0.0);
+    }
     for reference in tasks {
         match reference.point {
             Some((point, motion)) => PointTask {

@@ -1,0 +1,284 @@
+//! Global guidance for the reactive controller: a joint-space path from the
+//! scenario's start to a goal configuration, every segment certified clear
+//! of the obstacles (as they stand at `t = 0`) by the safety band and a
+//! little more, timed within the joints' limits, to be followed as a
+//! `joints` task ([`crate::scenario::TaskSpec::Joints`]).
+//!
+//! A reactive controller, the paper's or the `constraints` avoidance, stops
+//! where the obstacles' push balances the goal's pull (a local minimum): an
+//! arm reaching into a shelf past a board. A planner sees the whole free
+//! space and finds the way round; the controller still runs every step
+//! under every guard, so an obstacle that moves after planning is still
+//! avoided. This is the usual split of a serious system (plan, then
+//! follow reactively) and is kept apart from the controllers: a scenario
+//! with a goal pose stays purely reactive unless its caller plans.
+//!
+//! The steps ([`plan_path`]):
+//! 1. **Escape.** A start closer to an obstacle than the thresholds (the
+//!    benchmark's fitted volumes overlap some of its starts) first climbs
+//!    the clearance, by its finite-difference gradient, until it is clear.
+//! 2. **Search.** RRT-Connect between the start and the goal ([`rrt`]),
+//!    with segments certified by a Lipschitz bound ([`checker`]), not
+//!    sampled.
+//! 3. **Shorten.** Greedy, then random shortcuts.
+//! 4. **Time.** Each segment is a rest-to-rest quintic whose duration keeps
+//!    every joint within its velocity, acceleration and jerk limits, with
+//!    [`PlanOptions::time_scale`] to spare for the controller's feedback.
+//!
+//! Files: `mod.rs` (the steps, the timing), `checker.rs`, `rrt.rs`.
+
+pub mod checker;
+mod rrt;
+
+use checker::{Checker, MIN_MARGIN, Thresholds};
+
+use crate::error::FieldError;
+use crate::rng::Rng;
+use crate::scenario::{Scenario, TaskSpec, Tasks};
+
+/// Settings of [`plan_path`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanOptions {
+    /// Seed of the search.
+    pub seed: u64,
+    /// Clearance kept beyond the controller's safety band (m).
+    pub extra_clearance: f64,
+    /// Clearance kept between two of the arm's links (m).
+    pub self_clearance: f64,
+    /// Longest step of a tree (m that a point of the arm may move).
+    pub step: f64,
+    /// Rounds of the search before it gives up.
+    pub rounds: usize,
+    /// Random shortcut attempts.
+    pub shortcuts: usize,
+    /// Each segment's duration over the shortest the limits allow (≥ 1).
+    pub time_scale: f64,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            extra_clearance: 0.005,
+            self_clearance: 0.005,
+            step: 0.15,
+            rounds: 4000,
+            shortcuts: 200,
+            time_scale: 1.1,
+        }
+    }
+}
+
+/// A timed joint-space path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// Configurations, the start first and the goal last.
+    pub configurations: Vec<Vec<f64>>,
+    /// When the arm is to be at each (s, from 0).
+    pub times: Vec<f64>,
+    /// How many of the first configurations are the escape from a start
+    /// closer than the thresholds (0: the start was clear).
+    pub escape: usize,
+    /// The clearances every certified segment keeps (m).
+    pub thresholds: Thresholds,
+    /// Clearance evaluations spent.
+    pub evaluations: usize,
+}
+
+impl Plan {
+    /// The plan as a `joints` task.
+    #[must_use]
+    pub fn task(&self) -> Tasks {
+        Tasks::One(TaskSpec::Joints {
+            configurations: self.configurations.clone(),
+            times: self.times.clone(),
+        })
+    }
+}
+
+/// A path for `scenario`'s robot from its start (`q0`) to `goal` among its
+/// obstacles at `t = 0`, keeping the safety band plus
+/// [`PlanOptions::extra_clearance`] (less near a goal closer than that,
+/// never less than the band).
+///
+/// # Errors
+/// A scenario a world refuses; `goal` of the wrong length, not finite or
+/// outside the limits; a goal within the safety band; a start that cannot
+/// be freed; no path within [`PlanOptions::rounds`].
+pub fn plan_path(
+    scenario: &Scenario,
+    goal: &[f64],
+    options: &PlanOptions,
+) -> Result<Plan, FieldError> {
+    let (mut checker, start) = Checker::for_scenario(scenario)?;
+    crate::scenario::joint_path::validate(checker.robot(), &[goal.to_vec()], &[0.0])
+        .map_err(|e| FieldError::new(e.field.replacen("configurations[0]", "goal", 1), e.reason))?;
+    let controller = &scenario.controller;
+    let band = controller.safety_band;
+    let (goal_obstacles, goal_self) = checker.clearances(goal)?;
+    if goal_obstacles < band {
+        return Err(FieldError::new(
+            "goal",
+            format!(
+                "its clearance, {:.1} mm, is within the safety band ({:.1} mm)",
+                goal_obstacles * 1e3,
+                band * 1e3
+            ),
+        ));
+    }
+    let thresholds = Thresholds {
+        obstacles: (band + options.extra_clearance).min(goal_obstacles - 3.0 * MIN_MARGIN),
+        self_pairs: options.self_clearance.min(goal_self - 6.0 * MIN_MARGIN),
+    };
+    let mut rng = Rng::new(options.seed);
+    let mut path = escape(&mut checker, &start, &thresholds, &mut rng)?;
+    let escape = path.len() - 1;
+    let bounds: Vec<(f64, f64)> = checker
+        .robot()
+        .joints
+        .iter()
+        .zip(&start)
+        .map(|(j, &q)| sampling_bounds(j.min, j.max, q))
+        .collect();
+    let mut problem = rrt::Problem {
+        checker: &mut checker,
+        thresholds,
+        bounds: &bounds,
+        search: rrt::Search {
+            step: options.step,
+            rounds: options.rounds,
+            shortcuts: options.shortcuts,
+        },
+    };
+    let from = path.last().cloned().unwrap_or_else(|| start.clone());
+    let found = problem.search(&from, goal, &mut rng)?.ok_or_else(|| {
+        FieldError::new(
+            "goal",
+            format!("no path found in {} rounds", options.rounds),
+        )
+    })?;
+    let found = problem.shorten(found, &mut rng)?;
+    path.extend(found.into_iter().skip(1));
+    let times = timing(checker.robot(), &path, options.time_scale);
+    Ok(Plan {
+        configurations: path,
+        times,
+        escape,
+        thresholds,
+        evaluations: checker.evaluations,
+    })
+}
+
+/// Where a joint is sampled: its limits, or a turn either side of the start
+/// for a joint without.
+fn sampling_bounds(min: f64, max: f64, start: f64) -> (f64, f64) {
+    let pi = std::f64::consts::PI;
+    (
+        if min.is_finite() { min } else { start - pi },
+        if max.is_finite() { max } else { start + pi },
+    )
+}
+
+/// The escape from `start` (module docs, step 1): the configurations from
+/// `start` to the first with a margin of `3 MIN_MARGIN` at least. Each
+/// step moves the arm by 2 cm at most (1 cm, 5 mm when no longer step
+/// gains), the best of the margin's
+/// finite-difference gradient and 24 random directions: the margin is the
+/// smallest over many pairs, and where two pairs are equally close the
+/// gradient of one can close the other, so climbing by the gradient alone
+/// stalls.
+fn escape(
+    checker: &mut Checker,
+    start: &[f64],
+    thresholds: &Thresholds,
+    rng: &mut Rng,
+) -> Result<Vec<Vec<f64>>, FieldError> {
+    const STEPS: [f64; 3] = [0.02, 0.01, 0.005];
+    const H: f64 = 1e-5;
+    const TRIES: usize = 24;
+    let mut path = vec![start.to_vec()];
+    let mut q = start.to_vec();
+    let mut m = checker.margin(&q, thresholds)?;
+    let robot = checker.robot().clone();
+    let reach = checker.reach().to_vec();
+    for _ in 0..400 {
+        if m >= 3.0 * MIN_MARGIN {
+            return Ok(path);
+        }
+        let mut best: Option<(Vec<f64>, f64)> = None;
+        for (k, step) in (0..=TRIES).flat_map(|k| STEPS.map(|s| (k, s))) {
+            if best.as_ref().is_some_and(|b| b.1 > m && step < STEPS[0]) {
+                // A long step already gains: shorter ones are not tried.
+                continue;
+            }
+            let dir: Vec<f64> = if k == 0 {
+                let mut grad = vec![0.0; q.len()];
+                for (j, g) in grad.iter_mut().enumerate() {
+                    let mut p = q.clone();
+                    p[j] += H;
+                    *g = (checker.margin(&p, thresholds)? - m) / H;
+                }
+                grad
+            } else {
+                (0..q.len()).map(|_| rng.normal()).collect()
+            };
+            let rate: f64 = dir.iter().zip(&reach).map(|(g, r)| g.abs() * r).sum();
+            if rate <= 0.0 {
+                continue;
+            }
+            let mut next: Vec<f64> = q
+                .iter()
+                .zip(&dir)
+                .map(|(x, g)| x + g * step / rate)
+                .collect();
+            robot.clamp_to_limits(&mut next);
+            let m_next = checker.margin(&next, thresholds)?;
+            if best.as_ref().is_none_or(|b| m_next > b.1) {
+                best = Some((next, m_next));
+            }
+        }
+        match best {
+            Some((next, m_next)) if m_next > m => {
+                (q, m) = (next, m_next);
+                path.push(q.clone());
+            }
+            _ => break,
+        }
+    }
+    // No step frees the start further: the pairs still too close are kept
+    // from closing (see `Checker::relax`).
+    if checker.relax(&q, thresholds)? == 0 {
+        return Err(FieldError::new(
+            "q0",
+            format!(
+                "the start cannot be freed: {:.1} mm short of the clearances kept",
+                -m * 1e3
+            ),
+        ));
+    }
+    Ok(path)
+}
+
+/// The times of `path`'s configurations: each segment a rest-to-rest
+/// quintic, as short as the joints' velocity, acceleration and jerk limits
+/// allow (peaks `1.875 Δ/T`, `5.774 Δ/T²`, `60 Δ/T³`), times `scale`.
+fn timing(robot: &crate::kinematics::Robot, path: &[Vec<f64>], scale: f64) -> Vec<f64> {
+    let mut times = vec![0.0];
+    let mut t = 0.0;
+    for w in path.windows(2) {
+        let shortest = w[0]
+            .iter()
+            .zip(&w[1])
+            .zip(&robot.joints)
+            .map(|((a, b), j)| {
+                let d = (b - a).abs();
+                (1.875 * d / j.max_velocity)
+                    .max((10.0 / 3f64.sqrt() * d / j.max_acceleration).sqrt())
+                    .max((60.0 * d / j.max_jerk).cbrt())
+            })
+            .fold(0.0, f64::max);
+        t += (shortest * scale.max(1.0)).max(0.05);
+        times.push(t);
+    }
+    times
+}

@@ -1,0 +1,230 @@
+//! RRT-Connect (Kuffner & LaValle, 2000) in joint space, with the
+//! certified segments of [`super::checker`], then shortcutting.
+//!
+//! Two trees grow, one from the start and one from the goal. Each round
+//! one tree takes a step of at most [`Search::step`] (in metres of
+//! [`Checker::sweep`], so a step moves no point of the arm further than
+//! that) towards a random configuration; the other then extends towards
+//! the new node step by step until it reaches it or is blocked. The trees
+//! swap roles every round. Distances are measured by the same sweep, so
+//! the nearest node is the one the arm reaches with the least motion.
+
+use super::checker::{Checker, Thresholds};
+use crate::error::FieldError;
+use crate::rng::Rng;
+
+/// The search's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Search {
+    /// Longest step of a tree (m of sweep).
+    pub step: f64,
+    /// Rounds before giving up.
+    pub rounds: usize,
+    /// Shortcut attempts on the path found.
+    pub shortcuts: usize,
+}
+
+/// One tree: nodes and each node's parent (`usize::MAX` for the root).
+struct Tree {
+    nodes: Vec<Vec<f64>>,
+    parents: Vec<usize>,
+}
+
+impl Tree {
+    fn new(root: Vec<f64>) -> Self {
+        Self {
+            nodes: vec![root],
+            parents: vec![usize::MAX],
+        }
+    }
+
+    fn nearest(&self, checker: &Checker, q: &[f64]) -> usize {
+        let mut best = (0, f64::INFINITY);
+        for (k, n) in self.nodes.iter().enumerate() {
+            let d = checker.sweep(n, q);
+            if d < best.1 {
+                best = (k, d);
+            }
+        }
+        best.0
+    }
+
+    /// The path from the root to node `k`.
+    fn path_to(&self, mut k: usize) -> Vec<Vec<f64>> {
+        let mut out = Vec::new();
+        while k != usize::MAX {
+            out.push(self.nodes[k].clone());
+            k = self.parents[k];
+        }
+        out.reverse();
+        out
+    }
+}
+
+/// What an extension did.
+enum Extend {
+    Blocked,
+    Advanced(usize),
+    Reached(usize),
+}
+
+/// The planning problem as the search sees it.
+pub(super) struct Problem<'a> {
+    pub checker: &'a mut Checker,
+    pub thresholds: Thresholds,
+    pub bounds: &'a [(f64, f64)],
+    pub search: Search,
+}
+
+impl Problem<'_> {
+    /// One step of `tree` towards `target`.
+    fn extend(&mut self, tree: &mut Tree, target: &[f64]) -> Result<Extend, FieldError> {
+        let near = tree.nearest(self.checker, target);
+        let from = &tree.nodes[near];
+        let d = self.checker.sweep(from, target);
+        let reached = d <= self.search.step;
+        let q: Vec<f64> = if reached {
+            target.to_vec()
+        } else {
+            let f = self.search.step / d;
+            from.iter()
+                .zip(target)
+                .map(|(a, b)| a + (b - a) * f)
+                .collect()
+        };
+        if !self.checker.segment_free(from, &q, &self.thresholds)? {
+            return Ok(Extend::Blocked);
+        }
+        tree.nodes.push(q);
+        tree.parents.push(near);
+        let k = tree.nodes.len() - 1;
+        Ok(if reached {
+            Extend::Reached(k)
+        } else {
+            Extend::Advanced(k)
+        })
+    }
+
+    /// Extends `tree` towards `target` until it reaches it or is blocked.
+    fn connect(&mut self, tree: &mut Tree, target: &[f64]) -> Result<Option<usize>, FieldError> {
+        loop {
+            match self.extend(tree, target)? {
+                Extend::Blocked => return Ok(None),
+                Extend::Reached(k) => return Ok(Some(k)),
+                Extend::Advanced(_) => {}
+            }
+        }
+    }
+
+    fn sample(&self, rng: &mut Rng) -> Vec<f64> {
+        self.bounds
+            .iter()
+            .map(|&(lo, hi)| rng.range(lo, hi))
+            .collect()
+    }
+
+    /// A free path from `start` to `goal` (both free), or `None` after
+    /// [`Search::rounds`] rounds.
+    pub fn search(
+        &mut self,
+        start: &[f64],
+        goal: &[f64],
+        rng: &mut Rng,
+    ) -> Result<Option<Vec<Vec<f64>>>, FieldError> {
+        if self.checker.segment_free(start, goal, &self.thresholds)? {
+            return Ok(Some(vec![start.to_vec(), goal.to_vec()]));
+        }
+        let mut a = Tree::new(start.to_vec());
+        let mut b = Tree::new(goal.to_vec());
+        let mut a_is_start = true;
+        for _ in 0..self.search.rounds {
+            let target = self.sample(rng);
+            if let Extend::Advanced(k) | Extend::Reached(k) = self.extend(&mut a, &target)? {
+                let new = a.nodes[k].clone();
+                if let Some(j) = self.connect(&mut b, &new)? {
+                    let (mut head, mut tail) = (a.path_to(k), b.path_to(j));
+                    if !a_is_start {
+                        std::mem::swap(&mut head, &mut tail);
+                    }
+                    tail.reverse();
+                    tail.remove(0);
+                    head.extend(tail);
+                    return Ok(Some(head));
+                }
+            }
+            std::mem::swap(&mut a, &mut b);
+            a_is_start = !a_is_start;
+        }
+        Ok(None)
+    }
+
+    /// `path` shortened: first greedily (from each kept node, the last of
+    /// the run of nodes it sees), then [`Search::shortcuts`] random attempts to join two
+    /// points on the path.
+    pub fn shorten(
+        &mut self,
+        path: Vec<Vec<f64>>,
+        rng: &mut Rng,
+    ) -> Result<Vec<Vec<f64>>, FieldError> {
+        let mut out = vec![path[0].clone()];
+        let mut i = 0;
+        while i + 1 < path.len() {
+            let mut j = i + 1;
+            while j + 1 < path.len()
+                && self
+                    .checker
+                    .segment_free(&path[i], &path[j + 1], &self.thresholds)?
+            {
+                j += 1;
+            }
+            out.push(path[j].clone());
+            i = j;
+        }
+        for _ in 0..self.search.shortcuts {
+            if out.len() < 3 {
+                break;
+            }
+            let (a, b) = two_points(out.len(), rng);
+            let pa = point_on(&out, a);
+            let pb = point_on(&out, b);
+            if self.checker.segment_free(&pa, &pb, &self.thresholds)? {
+                let (ia, ib) = (a.floor() as usize, b.floor() as usize);
+                let mut next = out[..=ia].to_vec();
+                next.push(pa);
+                next.push(pb);
+                next.extend_from_slice(&out[ib + 1..]);
+                next.dedup();
+                out = next;
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Two positions `a < b` on a path of `n` nodes (node `k` at `k`), on
+/// different segments.
+fn two_points(n: usize, rng: &mut Rng) -> (f64, f64) {
+    let span = (n - 1) as f64;
+    let (x, y) = (rng.range(0.0, span), rng.range(0.0, span));
+    let (a, b) = (x.min(y), x.max(y));
+    if b.floor() <= a.floor() {
+        (a.floor(), (a.floor() + 1.0).min(span))
+    } else {
+        (a, b)
+    }
+}
+
+/// The configuration at position `s` along `path` (node `k` at `s = k`).
+fn point_on(path: &[Vec<f64>], s: f64) -> Vec<f64> {
+    let k = (s.floor() as usize).min(path.len() - 2);
+    let f = s - k as f64;
+    if f <= 0.0 || f >= 1.0 {
+        // A node itself, to the bit.
+        return path[if f <= 0.0 { k } else { k + 1 }].clone();
+    }
+    path[k]
+        .iter()
+        .zip(&path[k + 1])
+        .map(|(a, b)| a + (b - a) * f)
+        .collect()
+}
