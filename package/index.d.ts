@@ -365,7 +365,9 @@ export type Task =
       start?: number | undefined;
       duration: number;
       position?: Vec3 | undefined;
-    };
+    }
+  /** A path in joint space (e.g. from `planPath`): at `configurations[k]` at `times[k]` s, at rest there, on the straight segments between; the only task, `constraints` avoidance only. */
+  | { type: 'joints'; configurations: number[][]; times: number[] };
 
 export interface Controller {
   mode?: 'velocity' | 'torque' | 'clik2' | undefined;
@@ -869,6 +871,34 @@ export interface ReachProblem {
  * in a browser pass it as `data` (fetched and parsed). An unknown set throws `set: unknown problem set 'x' (pr2, panda, mbm)`.
  */
 export function reachProblems(set: ReachSet, data?: unknown): ReachProblem[];
+/** Options of `planPath`; every field optional. */
+export interface PlanOptions {
+  seed?: number | undefined;
+  /** Clearance kept beyond the controller's safety band (m; default 0.005). */
+  extraClearance?: number | undefined;
+  /** Clearance kept between two of the arm's links (m; default 0.005). */
+  selfClearance?: number | undefined;
+  /** Longest step of a search tree, in metres any point of the arm moves (default 0.15). */
+  step?: number | undefined;
+  /** Rounds of RRT-Connect before giving up (default 4000, at most 1e6). */
+  rounds?: number | undefined;
+  /** Random shortcut attempts (default 200). */
+  shortcuts?: number | undefined;
+  /** Each segment's duration over the shortest the joint limits allow (≥ 1; default 1.1). */
+  timeScale?: number | undefined;
+}
+/** A timed joint-space path: follow it with `{ type: 'joints', configurations, times }`. */
+export interface Plan {
+  configurations: number[][];
+  times: number[];
+  /** How many of the first configurations escape a start closer than the thresholds. */
+  escape: number;
+  /** The clearances every certified segment keeps (m). */
+  thresholds: { obstacles: number; selfPairs: number };
+  evaluations: number;
+}
+/** A path from `scenario.q0` to `goalQ` among the obstacles at t = 0, every segment certified clear of them by the safety band plus `extraClearance`, timed within the joints' limits. */
+export function planPath(scenario: Scenario, goalQ: number[], options?: PlanOptions): Plan;
 /** `runs` copies of `scenario` with independent sensing seeds, reduced to distributions. */
 export function monteCarlo(scenario: Scenario, options: MonteCarloOptions): MonteCarloReport;
 /** A block of runs of a study (for a progress bar); merge the rows with `monteCarloMerge`. */

@@ -9,7 +9,8 @@
 //! `cargo run --release --example reach [-- --panda N] [--seed S] [--only pr2,panda,mbm] [--controllers constraints,repulsion,neo,neo+limiter] [--every K] [--verbose]`
 //!
 //! `--every K` runs every K-th problem of each set (a quicker look; the
-//! report's figures are for the whole sets).
+//! report's figures are for the whole sets); `--problems a,b` only the
+//! problems named (`pr2/bookshelf/7`).
 //!
 //! `--pr2-capsules` runs the PR2 set with the arm as imported (three 0.05 m
 //! capsules) instead of its fitted volumes. `-- --write-pr2` rewrites the
@@ -223,7 +224,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         None => Controller::ALL.to_vec(),
     };
     let every: usize = arg("--every").map_or(Ok(1), |s| s.parse())?;
-    let thin = |p: Vec<Problem>| -> Vec<Problem> { p.into_iter().step_by(every.max(1)).collect() };
+    let named = arg("--problems");
+    let thin = |p: Vec<Problem>| -> Vec<Problem> {
+        p.into_iter()
+            .step_by(every.max(1))
+            .filter(|p| {
+                named
+                    .as_deref()
+                    .is_none_or(|n| n.split(',').any(|n| n == p.name))
+            })
+            .collect()
+    };
     let seed: u64 = arg("--seed").map_or(Ok(reach::PANDA_SEED), |s| s.parse())?;
     let count: usize = arg("--panda").map_or(Ok(reach::PANDA_COUNT), |s| s.parse())?;
     let data = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data");

@@ -111,6 +111,7 @@ const FUNCTIONS = {
   moveHumanHand: (r) => [arg(r, HUMAN), arg(r, r.pick(['left', 'right'])), arg(r, [0.05, -0.1, 0.2])],
   importTrack: (r) => [arg(r, TRACK), r.chance(0.5) ? undefined : arg(r, { smoothing: 0.02, maxGap: 0.3 })],
   simulate: (r) => [arg(r, r.pick(SCENARIOS))],
+  planPath: (r) => { const s = r.pick(SCENARIOS); return [arg(r, s), arg(r, s.q0 ?? [0, 0, 0]), r.chance(0.5) ? undefined : arg(r, { rounds: 50, seed: r.int(5) })]; },
   robotFromUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, { tip: 'b' })],
   fitUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? arg(r, { tip: 'b', meshes: {} }) : { meshes: { 'm.stl': new Uint8Array(r.int(200)).map(() => r.int(256)) } }],
   importUrdf: (r) => [arg(r, URDF), r.chance(0.5) ? undefined : arg(r, r.chance(0.5) ? { tip: 'b' } : { radii: { b: 0.03 } })],

@@ -36,7 +36,8 @@ pub const MIN_MARGIN: f64 = 5e-4;
 const HORIZON: f64 = 0.5;
 
 /// Clearances the planner keeps (m).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
 pub struct Thresholds {
     /// Between the arm's volumes and the obstacles.
     pub obstacles: f64,

@@ -32,12 +32,16 @@ mod rrt;
 
 use checker::{Checker, MIN_MARGIN, Thresholds};
 
-use crate::error::FieldError;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{FieldError, non_negative};
 use crate::rng::Rng;
 use crate::scenario::{Scenario, TaskSpec, Tasks};
 
-/// Settings of [`plan_path`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Settings of [`plan_path`] (in JS, `planPath`'s `options`, camelCase,
+/// every field optional).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(rename_all = "camelCase", default, deny_unknown_fields)]
 pub struct PlanOptions {
     /// Seed of the search.
     pub seed: u64,
@@ -55,6 +59,49 @@ pub struct PlanOptions {
     pub time_scale: f64,
 }
 
+impl PlanOptions {
+    /// Checks every value.
+    ///
+    /// # Errors
+    /// `step: must be > 0`, `rounds: must be in 1..=1000000`,
+    /// `timeScale: must be ≥ 1`, …
+    pub fn validate(&self) -> Result<(), FieldError> {
+        non_negative("extraClearance", self.extra_clearance)?;
+        non_negative("selfClearance", self.self_clearance)?;
+        if !(MIN_STEP..=MAX_STEP).contains(&self.step) {
+            return Err(FieldError::new(
+                "step",
+                format!("must be in [{MIN_STEP}, {MAX_STEP}] m"),
+            ));
+        }
+        if !(1..=MAX_ROUNDS).contains(&self.rounds) {
+            return Err(FieldError::new(
+                "rounds",
+                format!("must be in 1..={MAX_ROUNDS}"),
+            ));
+        }
+        if self.shortcuts > MAX_ROUNDS {
+            return Err(FieldError::new(
+                "shortcuts",
+                format!("must be in 0..={MAX_ROUNDS}"),
+            ));
+        }
+        if !(self.time_scale >= 1.0 && self.time_scale.is_finite()) {
+            return Err(FieldError::new("timeScale", "must be a finite number ≥ 1"));
+        }
+        Ok(())
+    }
+}
+
+/// Shortest step of a search tree (m): a tree extends by steps, so a
+/// shorter one would make a search of a metre take millions of them.
+pub const MIN_STEP: f64 = 0.005;
+/// Longest step of a search tree (m).
+pub const MAX_STEP: f64 = 10.0;
+
+/// Most rounds (or shortcut attempts) of one search.
+pub const MAX_ROUNDS: usize = 1_000_000;
+
 impl Default for PlanOptions {
     fn default() -> Self {
         Self {
@@ -64,13 +111,14 @@ impl Default for PlanOptions {
             step: 0.15,
             rounds: 4000,
             shortcuts: 200,
-            time_scale: 1.1,
+            time_scale: 1.0,
         }
     }
 }
 
 /// A timed joint-space path.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
 pub struct Plan {
     /// Configurations, the start first and the goal last.
     pub configurations: Vec<Vec<f64>>,
@@ -102,7 +150,8 @@ impl Plan {
 /// never less than the band).
 ///
 /// # Errors
-/// A scenario a world refuses; `goal` of the wrong length, not finite or
+/// Options out of range (`options.step: must be > 0`); a scenario a world
+/// refuses; `goal` of the wrong length, not finite or
 /// outside the limits; a goal within the safety band; a start that cannot
 /// be freed; no path within [`PlanOptions::rounds`].
 pub fn plan_path(
@@ -110,6 +159,7 @@ pub fn plan_path(
     goal: &[f64],
     options: &PlanOptions,
 ) -> Result<Plan, FieldError> {
+    options.validate().map_err(|e| e.within("options"))?;
     let (mut checker, start) = Checker::for_scenario(scenario)?;
     crate::scenario::joint_path::validate(checker.robot(), &[goal.to_vec()], &[0.0])
         .map_err(|e| FieldError::new(e.field.replacen("configurations[0]", "goal", 1), e.reason))?;

@@ -11,6 +11,12 @@
 //! segments is the clearance of the reference. Before the first time the
 //! reference is the first configuration; after the last, the last.
 //!
+//! The times are the path's own clock, which a world runs at its pace
+//! only while the arm keeps up: when a guard holds the arm back, or the
+//! limits let it fall behind, the clock slows and waits for it (see
+//! `world/control.rs`), so that the arm is pulled back onto the path
+//! rather than straight towards a reference far along it.
+//!
 //! The `constraints` avoidance tracks it with one row per joint,
 //! `q̇ ≈ q̇_ref + K (q_ref − q)`, under the same guards and limits as any
 //! other task: the path guides, the protective layer still decides.

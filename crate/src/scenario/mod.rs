@@ -242,13 +242,7 @@ impl Scenario {
         }
         self.task.validate(&robot).map_err(|e| e.within("task"))?;
         validate_controller(&self.controller, &robot).map_err(|e| e.within("controller"))?;
-        if self.task.in_joint_space() && !self.controller.uses_constraints() {
-            return Err(FieldError::new(
-                "task.type",
-                "a joints task needs controller.avoidance \"constraints\" (velocity mode)",
-            )
-            .into());
-        }
+        check_task_controller(&self.task, &self.controller)?;
         if let Some(d) = &self.sensing.default {
             d.validate().map_err(|e| e.within("sensing.default"))?;
         }
@@ -267,6 +261,25 @@ impl Scenario {
         }
         Ok(())
     }
+}
+
+/// Checks that `controller` can drive `task`: a `joints` task needs the
+/// `constraints` avoidance in velocity mode (the one controller with joint
+/// rows).
+///
+/// # Errors
+/// `task.type: a joints task needs controller.avoidance "constraints" …`.
+pub fn check_task_controller(
+    task: &Tasks,
+    controller: &ControllerConfig,
+) -> Result<(), FieldError> {
+    if task.in_joint_space() && !controller.uses_constraints() {
+        return Err(FieldError::new(
+            "task.type",
+            "a joints task needs controller.avoidance \"constraints\" (velocity mode)",
+        ));
+    }
+    Ok(())
 }
 
 /// Checks a controller configuration, including its pinned points against

@@ -93,9 +93,10 @@ pub enum TaskSpec {
         position: Option<[f64; 3]>,
     },
     /// Follow a path in joint space: be at `configurations[k]` at
-    /// `times[k]` (s), at rest there, on the straight segments between
-    /// them (see `joint_path.rs`). Drives every joint, so it is the only
-    /// task; the `constraints` avoidance only.
+    /// `times[k]` (s, on the path's clock, which waits while the arm lags),
+    /// at rest there, on the straight segments between them (see
+    /// `joint_path.rs`). Drives every joint, so it is the only task; the
+    /// `constraints` avoidance only.
     Joints {
         /// Configurations, one value per joint (rad or m).
         configurations: Vec<Vec<f64>>,

@@ -33,6 +33,7 @@ mod convert;
 mod dynamics;
 mod kinematics;
 mod messages;
+mod plan;
 mod stream;
 mod study;
 mod urdf;

@@ -3,7 +3,7 @@
 //! eq. 4), the `constraints` avoidance's QP
 //! ([`crate::avoidance::constraints`]) or NEO's ([`crate::avoidance::neo`]).
 
-use super::parts::{Model, State, StepData};
+use super::parts::{JointPathData, Model, State, StepData};
 use crate::avoidance::constraints::{ConstraintsInput, constrained_velocity};
 use crate::avoidance::neo::{NeoInput, neo_velocity};
 use crate::avoidance::rows::JointTarget;
@@ -29,8 +29,7 @@ pub(super) fn control(
         &mut refs,
     );
     data.references = refs;
-    let (jq, jv) = &mut data.joint_reference;
-    let in_joints = model.scenario.task.joint_reference(state.t, jq, jv);
+    let in_joints = joint_path(model, state, &mut data.joint_path, dt);
     if cfg.uses_constraints() {
         let input = ConstraintsInput {
             robot: &model.robot,
@@ -39,8 +38,8 @@ pub(super) fn control(
             stop_time: data.guard.stop_time,
             tasks: &data.references,
             joints: in_joints.then_some(JointTarget {
-                q: &data.joint_reference.0,
-                qdot: &data.joint_reference.1,
+                q: &data.joint_path.q,
+                qdot: &data.joint_path.qdot,
                 now: &state.q,
             }),
             guards: &data.guard.guards,
@@ -75,6 +74,36 @@ pub(super) fn control(
         data.request.iter_mut().for_each(|v| *v = 0.0);
     }
     Ok(())
+}
+
+/// Lag (rad, largest over the joints) up to which a `joints` task's path
+/// runs at the world's pace.
+const LAG_FREE: f64 = 0.03;
+/// Lag at which the path waits for the arm.
+const LAG_STOP: f64 = 0.1;
+
+/// The `joints` task's reference this step into `path` (`false` without
+/// one). The path runs on its own clock, which advances by `dt` while the
+/// arm is within [`LAG_FREE`] of the reference, slower beyond, and not at
+/// all from [`LAG_STOP`] (the feed-forward velocity scaled alike): when a
+/// guard holds the arm back, or the limits let it fall behind, the
+/// reference waits for it instead of running ahead, and the arm, pulled
+/// back to the path rather than straight towards a reference far along
+/// it, stays on the segments the planner certified.
+fn joint_path(model: &Model, state: &State, path: &mut JointPathData, dt: f64) -> bool {
+    let task = &model.scenario.task;
+    if !task.joint_reference(path.time, &mut path.q, &mut path.qdot) {
+        return false;
+    }
+    let lag = path
+        .q
+        .iter()
+        .zip(&state.q)
+        .fold(0.0_f64, |m, (r, q)| m.max((r - q).abs()));
+    let rate = ((LAG_STOP - lag) / (LAG_STOP - LAG_FREE)).clamp(0.0, 1.0);
+    path.qdot.iter_mut().for_each(|v| *v *= rate);
+    path.time += dt * rate;
+    true
 }
 
 /// The controller's joint command for the active points `active` and

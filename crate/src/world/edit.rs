@@ -214,6 +214,7 @@ impl World {
     /// unchanged.
     pub fn set_controller(&mut self, config: ControllerConfig) -> Result<(), ScenarioError> {
         validate_controller(&config, &self.model.robot).map_err(|e| e.within("controller"))?;
+        crate::scenario::check_task_controller(&self.model.scenario.task, &config)?;
         super::dynamics::require_dynamics(&config, &self.model.dynamics)?;
         if config.self_collision_exclude != self.model.scenario.controller.self_collision_exclude {
             self.model.adjacency = super::self_pairs_left_out(&self.model.robot, &config)

@@ -203,7 +203,7 @@ impl World {
                 frames,
                 skeleton,
                 references: Vec::new(),
-                joint_reference: (Vec::new(), Vec::new()),
+                joint_path: parts::JointPathData::default(),
                 slowdown: Vec::new(),
                 request: Vec::new(),
                 guard: GuardData {

@@ -110,8 +110,8 @@ pub(super) struct StepData {
     pub(super) frames: Frames,
     pub(super) skeleton: Skeleton,
     pub(super) references: Vec<TaskReference>,
-    /// The `joints` task's reference now (`q`, `q̇`; empty without one).
-    pub(super) joint_reference: (Vec<f64>, Vec<f64>),
+    /// The `joints` task's reference and its clock.
+    pub(super) joint_path: JointPathData,
     /// Per obstacle, the factor on the arm's allowed approach speed when a
     /// transition plus braking would not end before contact (1: none).
     pub(super) slowdown: Vec<f64>,
@@ -121,6 +121,16 @@ pub(super) struct StepData {
     pub(super) readout: Readout,
     pub(super) propagation: Propagation,
     pub(super) dynamics: DynamicsData,
+}
+
+/// The `joints` task's reference now (`q`, `q̇`; empty without one) and
+/// the time on its path, which runs slower than the world's while the arm
+/// lags (see `control.rs`).
+#[derive(Clone, Debug, Default)]
+pub(super) struct JointPathData {
+    pub(super) q: Vec<f64>,
+    pub(super) qdot: Vec<f64>,
+    pub(super) time: f64,
 }
 
 /// The protective layer's guards of one step and the QP's workspace.
