@@ -17,7 +17,7 @@
 //! 1. **Escape.** A start closer to an obstacle than the thresholds (the
 //!    benchmark's fitted volumes overlap some of its starts) first climbs
 //!    the clearance, by its finite-difference gradient, until it is clear.
-//! 2. **Search.** RRT-Connect between the start and the goal ([`rrt`]),
+//! 2. **Search.** RRT-Connect between the start and the goal (`rrt.rs`),
 //!    with segments certified by a Lipschitz bound ([`checker`]), not
 //!    sampled.
 //! 3. **Shorten.** Greedy, then random shortcuts.
