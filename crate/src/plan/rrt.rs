@@ -166,7 +166,10 @@ impl Problem<'_> {
         path: Vec<Vec<f64>>,
         rng: &mut Rng,
     ) -> Result<Vec<Vec<f64>>, FieldError> {
-        let mut out = vec![path[0].clone()];
+        let Some(first) = path.first() else {
+            return Ok(path);
+        };
+        let mut out = vec![first.clone()];
         let mut i = 0;
         while i + 1 < path.len() {
             let mut j = i + 1;

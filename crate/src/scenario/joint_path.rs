@@ -98,7 +98,9 @@ pub fn validate(
 
 /// The reference at time `t`: positions into `q` and velocities into
 /// `qdot` (both resized to the configurations' length). Inputs as
-/// [`validate`] accepts them.
+/// [`validate`] accepts them; with no configuration both are left empty,
+/// and times beyond the configurations (or configurations beyond the
+/// times) are not used.
 pub fn reference_at(
     configurations: &[Vec<f64>],
     times: &[f64],
@@ -106,19 +108,27 @@ pub fn reference_at(
     q: &mut Vec<f64>,
     qdot: &mut Vec<f64>,
 ) {
-    let n = configurations.first().map_or(0, Vec::len);
     q.clear();
     qdot.clear();
-    qdot.resize(n, 0.0);
-    let k = times.partition_point(|&s| s <= t);
-    if k == 0 || k >= times.len() {
-        let at = if k == 0 { 0 } else { configurations.len() - 1 };
-        q.extend_from_slice(&configurations[at]);
+    let count = configurations.len().min(times.len());
+    let (Some(first), Some(last)) = (
+        configurations.first(),
+        configurations.get(count.wrapping_sub(1)),
+    ) else {
         return;
-    }
+    };
+    let times = &times[..count];
+    qdot.resize(first.len(), 0.0);
+    let k = times.partition_point(|&s| s <= t);
+    let (a, b) = match (k.checked_sub(1), configurations.get(k)) {
+        (Some(i), Some(b)) if k < count => (&configurations[i], b),
+        _ => {
+            q.extend_from_slice(if k == 0 { first } else { last });
+            return;
+        }
+    };
     let (t0, t1) = (times[k - 1], times[k]);
     let (s, ds, _) = super::task::quintic(t, t0, t1 - t0);
-    let (a, b) = (&configurations[k - 1], &configurations[k]);
     q.extend(a.iter().zip(b).map(|(x, y)| x + (y - x) * s));
     for ((v, x), y) in qdot.iter_mut().zip(a).zip(b) {
         *v = (y - x) * ds;
@@ -156,7 +166,22 @@ mod tests {
     }
 
     #[test]
+    fn empty_or_uneven_inputs_give_an_empty_or_clipped_reference() {
+        let (mut q, mut qd) = (vec![9.0], vec![9.0]);
+        reference_at(&[], &[], 1.0, &mut q, &mut qd);
+        assert!(q.is_empty() && qd.is_empty());
+        reference_at(&[vec![1.0]], &[], 1.0, &mut q, &mut qd);
+        assert!(q.is_empty());
+        let c = vec![vec![0.0], vec![1.0], vec![5.0]];
+        reference_at(&c, &[0.0, 1.0], 9.0, &mut q, &mut qd);
+        assert_eq!(q, vec![1.0]);
+        reference_at(&c[..2], &[0.0, 1.0, 2.0], 9.0, &mut q, &mut qd);
+        assert_eq!(q, vec![1.0]);
+    }
+
+    #[test]
     fn bad_paths_are_refused_with_the_field_named() {
+        // Test code: the preset is built in, so these cannot fail.
         let robot = Robot::from_spec(&presets::preset("planar3").unwrap()).unwrap();
         let ok = vec![vec![0.0, 0.0, 0.0], vec![0.5, 0.5, 0.5]];
         assert!(validate(&robot, &ok, &[0.0, 1.0]).is_ok());
