@@ -36,7 +36,12 @@
 //! the caller's buffers. When the guards cannot all be met (the arm cannot
 //! retreat fast enough, or two obstacles squeeze it) the result says which
 //! guard is violated, and the world stops the arm ([`super`]'s
-//! `unavoidable` event).
+//! `unavoidable` event). Squeezed between still obstacles only (an arm
+//! that starts overlapping one box and within the safety distance of
+//! another), the arm first tries to hold its ground instead: every still
+//! obstacle's demand to retreat becomes a bound of zero, so the arm closes
+//! in on none and may slide out along them; it stops only if even that
+//! cannot be met.
 //!
 //! The guards bound the arm's *approach*; its *speed* is bounded too, so
 //! that a stop decided at any moment still ends before an obstacle closing
