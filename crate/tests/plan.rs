@@ -138,6 +138,44 @@ fn a_local_minimum_of_the_reactive_controller_is_reached_on_a_plan() {
     assert!(o.audit.clearance >= band - 1e-6);
 }
 
+// Native only: two searches of 4000 rounds and a 10 s run take a minute
+// under `wasm-pack test --node`; the planner's wasm build is exercised by
+// the tests above and by `tests/node/plan.test.mjs`.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn a_start_wedged_between_boxes_creeps_out_and_reaches_its_goal() {
+    // Its fitted volumes overlap one box and lie within the band of
+    // others: no straight step of the first search is certified from it.
+    const WEDGED: &str = "pr2/industrial_a/50";
+    let p = pr2(WEDGED);
+    let options = PlanOptions::default();
+    let (mut checker, start) = Checker::for_scenario(&p.scenario).unwrap();
+    let (start_clearance, _) = checker.clearances(&start).unwrap();
+    assert!(start_clearance < 0.0, "{start_clearance}");
+    let goal = p.goal_q.clone().unwrap();
+    let plan = plan_path(&p.scenario, &goal, &options).unwrap();
+    assert!(plan.escape > 0);
+    let (guided, _) = Controller::Planned.guided(&p);
+    let o = reach::run(&guided).unwrap();
+    eprintln!(
+        "{WEDGED}: start {:.1} mm; plan of {} configurations ({} escaping), {} evaluations; reached in {:.2} s, final {:.2} mm {:.2}°, peak q̇/limit {:.2}, q̈/limit {:.2}, jerk/limit {:.2}",
+        start_clearance * 1e3,
+        plan.configurations.len(),
+        plan.escape,
+        plan.evaluations,
+        o.reached.unwrap_or(f64::NAN),
+        o.final_error.0 * 1e3,
+        o.final_error.1,
+        o.audit.velocity,
+        o.audit.acceleration,
+        o.audit.jerk,
+    );
+    // Strict success: reached within 1 cm and 2°, within every limit, and
+    // no contact began while the arm moved (the one at the start was there).
+    assert!(o.success, "{o:?}");
+    assert!(o.audit.moving_contact.is_none());
+}
+
 fn planar(task: TaskSpec, avoidance: &str) -> Result<Scenario, String> {
     let task = serde_json::to_value(Tasks::One(task)).unwrap();
     let v = serde_json::json!({

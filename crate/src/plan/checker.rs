@@ -172,19 +172,65 @@ impl Checker {
     /// # Errors
     /// As [`Checker::clearances`].
     pub fn margin(&mut self, q: &[f64], thresholds: &Thresholds) -> Result<f64, FieldError> {
-        let mut m = (HORIZON - thresholds.obstacles).min(0.5 * (HORIZON - thresholds.self_pairs));
-        for p in self.pairs(q)? {
-            let own = self
-                .relaxed
-                .iter()
-                .find(|r| r.0 == p.segment && r.1 == p.target)
-                .map(|r| r.2);
-            m = m.min(match p.target {
-                Target::Obstacle { .. } => p.distance - own.unwrap_or(thresholds.obstacles),
-                Target::Segment(_) => 0.5 * (p.distance - own.unwrap_or(thresholds.self_pairs)),
-            });
+        let m = (HORIZON - thresholds.obstacles).min(0.5 * (HORIZON - thresholds.self_pairs));
+        Ok(self
+            .pairs(q)?
+            .iter()
+            .map(|p| self.pair_margin(p, thresholds))
+            .fold(m, f64::min))
+    }
+
+    /// The margin of one pair (see [`Checker::margin`]).
+    fn pair_margin(&self, p: &PairDistance, thresholds: &Thresholds) -> f64 {
+        let own = self
+            .relaxed
+            .iter()
+            .find(|r| r.0 == p.segment && r.1 == p.target)
+            .map(|r| r.2);
+        match p.target {
+            Target::Obstacle { .. } => p.distance - own.unwrap_or(thresholds.obstacles),
+            Target::Segment(_) => 0.5 * (p.distance - own.unwrap_or(thresholds.self_pairs)),
         }
-        Ok(m)
+    }
+
+    /// The gradients (per joint) of the margins of the pairs whose margin
+    /// at `q` is below `band`, by forward differences: the directions in
+    /// which those pairs close are those with a negative product.
+    ///
+    /// # Errors
+    /// As [`Checker::clearances`].
+    pub fn tight_gradients(
+        &mut self,
+        q: &[f64],
+        thresholds: &Thresholds,
+        band: f64,
+    ) -> Result<Vec<Vec<f64>>, FieldError> {
+        const H: f64 = 1e-6;
+        let tight: Vec<(PairDistance, f64)> = self
+            .pairs(q)?
+            .into_iter()
+            .map(|p| {
+                let m = self.pair_margin(&p, thresholds);
+                (p, m)
+            })
+            .filter(|(_, m)| *m < band)
+            .collect();
+        let mut gradients = vec![vec![0.0; q.len()]; tight.len()];
+        let mut p = q.to_vec();
+        for j in 0..q.len() {
+            p[j] = q[j] + H;
+            let moved = self.pairs(&p)?;
+            p[j] = q[j];
+            for ((pair, m), g) in tight.iter().zip(&mut gradients) {
+                if let Some(x) = moved
+                    .iter()
+                    .find(|x| x.segment == pair.segment && x.target == pair.target)
+                {
+                    g[j] = (self.pair_margin(x, thresholds) - m) / H;
+                }
+            }
+        }
+        Ok(gradients)
     }
 
     /// Keeps every pair closer than `thresholds` at `q` at a threshold of
@@ -232,19 +278,40 @@ impl Checker {
         b: &[f64],
         thresholds: &Thresholds,
     ) -> Result<bool, FieldError> {
+        Ok(self.segment_reach(a, b, thresholds)? >= 1.0)
+    }
+
+    /// How much of the straight segment from `a` to `b` is certified free:
+    /// `1` when all of it is ([`Checker::segment_free`]), else the fraction
+    /// of the last point the walk checked with a margin of
+    /// `3 MIN_MARGIN` at least (`0` for none), so that the walk from a
+    /// node put there can go on (a point with less than `2 MIN_MARGIN`
+    /// ends every walk from it).
+    ///
+    /// # Errors
+    /// As [`Checker::clearances`].
+    pub fn segment_reach(
+        &mut self,
+        a: &[f64],
+        b: &[f64],
+        thresholds: &Thresholds,
+    ) -> Result<f64, FieldError> {
         let length = self.sweep(a, b);
         let mut q = a.to_vec();
-        let mut s = 0.0;
+        let (mut s, mut kept) = (0.0, 0.0);
         loop {
             for ((v, x), y) in q.iter_mut().zip(a).zip(b) {
                 *v = x + (y - x) * s;
             }
             let m = self.margin(&q, thresholds)?;
             if m < 2.0 * MIN_MARGIN {
-                return Ok(false);
+                return Ok(kept);
             }
             if s >= 1.0 || length <= 0.0 {
-                return Ok(true);
+                return Ok(1.0);
+            }
+            if m >= 3.0 * MIN_MARGIN {
+                kept = s;
             }
             // Any configuration within (m − MIN_MARGIN) of sweep keeps the
             // margin; the next point is checked itself.

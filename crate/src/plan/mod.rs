@@ -19,7 +19,9 @@
 //!    the clearance, by its finite-difference gradient, until it is clear.
 //! 2. **Search.** RRT-Connect between the start and the goal (`rrt.rs`),
 //!    with segments certified by a Lipschitz bound ([`checker`]), not
-//!    sampled.
+//!    sampled; when that finds no path, a second search whose trees creep
+//!    and slide along the obstacles (the way out of a start wedged between
+//!    boxes).
 //! 3. **Shorten.** Greedy, then random shortcuts.
 //! 4. **Time.** Each segment is a rest-to-rest quintic whose duration keeps
 //!    every joint within its velocity, acceleration and jerk limits, with
@@ -51,7 +53,8 @@ pub struct PlanOptions {
     pub self_clearance: f64,
     /// Longest step of a tree (m that a point of the arm may move).
     pub step: f64,
-    /// Rounds of the search before it gives up.
+    /// Rounds of each search before it gives up (a second search, which
+    /// creeps along the obstacles, follows one that finds nothing).
     pub rounds: usize,
     /// Random shortcut attempts.
     pub shortcuts: usize,
@@ -198,13 +201,19 @@ pub fn plan_path(
             step: options.step,
             rounds: options.rounds,
             shortcuts: options.shortcuts,
+            creep: false,
         },
     };
     let from = path.last().cloned().unwrap_or_else(|| start.clone());
-    let found = problem.search(&from, goal, &mut rng)?.ok_or_else(|| {
+    let mut found = problem.search(&from, goal, &mut rng)?;
+    if found.is_none() {
+        problem.search.creep = true;
+        found = problem.search(&from, goal, &mut rng)?;
+    }
+    let found = found.ok_or_else(|| {
         FieldError::new(
             "goal",
-            format!("no path found in {} rounds", options.rounds),
+            format!("no path found in two searches of {} rounds", options.rounds),
         )
     })?;
     let found = problem.shorten(found, &mut rng)?;

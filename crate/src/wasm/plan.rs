@@ -19,7 +19,7 @@ use crate::plan::{PlanOptions, plan_path};
 ///
 /// # Errors
 /// `goalQ[3]: 4 is outside the joint's limits […]`, `goalQ: its clearance
-/// … is within the safety band`, `goalQ: no path found in 4000 rounds`,
+/// … is within the safety band`, `goalQ: no path found in two searches of 4000 rounds`,
 /// `options.rounds: must be in 1..=1000000`, the scenario's own errors.
 #[wasm_bindgen(js_name = planPath)]
 pub fn plan_path_js(
