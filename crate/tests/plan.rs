@@ -143,9 +143,9 @@ fn a_local_minimum_of_the_reactive_controller_is_reached_on_a_plan() {
 // the tests above and by `tests/node/plan.test.mjs`.
 #[cfg(not(target_arch = "wasm32"))]
 #[test]
-fn a_start_wedged_between_boxes_creeps_out_and_reaches_its_goal() {
-    // Its fitted volumes overlap one box and lie within the band of
-    // others: no straight step of the first search is certified from it.
+fn a_start_in_contact_escapes_and_creeps_through_to_its_goal() {
+    // Its fitted volumes overlap a box by 2.5 mm; once out, the first
+    // search finds no path in 4000 rounds, the creeping one does.
     const WEDGED: &str = "pr2/industrial_a/50";
     let p = pr2(WEDGED);
     let options = PlanOptions::default();
@@ -155,6 +155,17 @@ fn a_start_wedged_between_boxes_creeps_out_and_reaches_its_goal() {
     let goal = p.goal_q.clone().unwrap();
     let plan = plan_path(&p.scenario, &goal, &options).unwrap();
     assert!(plan.escape > 0);
+    let robot = checker.robot();
+    for q in &plan.configurations {
+        for (v, j) in q.iter().zip(&robot.joints) {
+            assert!(
+                (j.min..=j.max).contains(v),
+                "{v} outside [{}, {}]",
+                j.min,
+                j.max
+            );
+        }
+    }
     let (guided, _) = Controller::Planned.guided(&p);
     let o = reach::run(&guided).unwrap();
     eprintln!(
@@ -174,6 +185,51 @@ fn a_start_wedged_between_boxes_creeps_out_and_reaches_its_goal() {
     // no contact began while the arm moved (the one at the start was there).
     assert!(o.success, "{o:?}");
     assert!(o.audit.moving_contact.is_none());
+}
+
+#[test]
+fn a_path_that_turns_a_joint_back_and_forth_is_not_stopped_as_an_oscillation() {
+    // Joint 1 there and back ten times in 4 s (0.1 rad each way, peak
+    // 0.47 rad/s, above the monitor's 0.2 rad/s): nine reversals, more
+    // than the six in 4 s the command monitor stops for, but all of them
+    // the path's own.
+    let configurations: Vec<Vec<f64>> = (0..=10)
+        .map(|k| vec![0.1 * f64::from(k % 2), 0.0, 0.0])
+        .collect();
+    let times: Vec<f64> = (0..=10).map(|k| 0.4 * f64::from(k)).collect();
+    let task = TaskSpec::Joints {
+        configurations,
+        times,
+    };
+    let mut world = World::new(planar(task, "constraints").unwrap()).unwrap();
+    let mut peak = 0.0_f64;
+    while world.time() < 4.5 {
+        world.step(0.005);
+        peak = peak.max(world.sample().qdot[0].abs());
+    }
+    assert!(peak > 0.3, "{peak}");
+    let stops: Vec<String> = world
+        .events()
+        .iter()
+        .map(|e| format!("{:?}", e.kind))
+        .filter(|e| e.contains("Stop") || e.contains("Chattering"))
+        .collect();
+    assert!(stops.is_empty(), "{stops:?}");
+    assert!(world.q()[0].abs() < 1e-3, "{:?}", world.q());
+}
+
+#[test]
+fn a_start_wedged_between_boxes_is_refused_with_the_field_named() {
+    // The gripper and forearm overlap boxes by up to 38 mm, between them.
+    let p = pr2("pr2/industrial_b/8");
+    let e = plan_path(
+        &p.scenario,
+        p.goal_q.as_ref().unwrap(),
+        &PlanOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "q0");
+    assert!(e.reason.contains("wedged"), "{e}");
 }
 
 fn planar(task: TaskSpec, avoidance: &str) -> Result<Scenario, String> {

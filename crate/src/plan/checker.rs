@@ -233,26 +233,31 @@ impl Checker {
         Ok(gradients)
     }
 
-    /// Keeps every pair closer than `thresholds` at `q` at a threshold of
-    /// its own, its clearance there less `3 MIN_MARGIN`: the planner keeps
-    /// such a pair (one overlapping at a start that no motion frees, e.g. a
-    /// volume that turns about its own axis) from closing further, and
-    /// every other pair at `thresholds`. Returns how many pairs.
+    /// Keeps every self pair closer than `thresholds` at `q` at a threshold
+    /// of its own, its clearance there less `3 MIN_MARGIN`: the planner
+    /// keeps such a pair (two of the arm's volumes that overlap at a start
+    /// no motion frees, e.g. one that turns about its own axis) from
+    /// closing further, and every other pair at `thresholds`. Returns how
+    /// many obstacle pairs at `q` are closer than that: those are not
+    /// relaxed (module docs, escape).
     ///
     /// # Errors
     /// As [`Checker::clearances`].
     pub fn relax(&mut self, q: &[f64], thresholds: &Thresholds) -> Result<usize, FieldError> {
+        let mut short = 0;
         for p in self.pairs(q)? {
-            let threshold = match p.target {
-                Target::Obstacle { .. } => thresholds.obstacles,
-                Target::Segment(_) => thresholds.self_pairs,
-            };
-            if p.distance < threshold + 3.0 * MIN_MARGIN {
-                self.relaxed
-                    .push((p.segment, p.target, p.distance - 3.0 * MIN_MARGIN));
+            match p.target {
+                Target::Obstacle { .. } => {
+                    short += usize::from(p.distance < thresholds.obstacles + 3.0 * MIN_MARGIN);
+                }
+                Target::Segment(_) if p.distance < thresholds.self_pairs + 6.0 * MIN_MARGIN => {
+                    self.relaxed
+                        .push((p.segment, p.target, p.distance - 6.0 * MIN_MARGIN));
+                }
+                Target::Segment(_) => {}
             }
         }
-        Ok(self.relaxed.len())
+        Ok(short)
     }
 
     /// How far points of the volumes can move between `a` and `b`, at most

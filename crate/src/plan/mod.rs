@@ -17,11 +17,16 @@
 //! 1. **Escape.** A start closer to an obstacle than the thresholds (the
 //!    benchmark's fitted volumes overlap some of its starts) first climbs
 //!    the clearance, by its finite-difference gradient, until it is clear.
+//!    A start that no step frees from an obstacle (an arm wedged between
+//!    boxes) is refused, and left to the reactive controller: planned
+//!    paths out of such wedges were built (each pair kept from closing
+//!    further), and on the PR2 set the arm following them was stopped by
+//!    the command monitor in every case, while the reactive controller
+//!    reached 5 of those goals.
 //! 2. **Search.** RRT-Connect between the start and the goal (`rrt.rs`),
 //!    with segments certified by a Lipschitz bound ([`checker`]), not
 //!    sampled; when that finds no path, a second search whose trees creep
-//!    and slide along the obstacles (the way out of a start wedged between
-//!    boxes).
+//!    and slide along the obstacles (a narrow passage between boxes).
 //! 3. **Shorten.** Greedy, then random shortcuts.
 //! 4. **Time.** Each segment is a rest-to-rest quintic whose duration keeps
 //!    every joint within its velocity, acceleration and jerk limits, with
@@ -304,13 +309,14 @@ fn escape(
             _ => break,
         }
     }
-    // No step frees the start further: the pairs still too close are kept
-    // from closing (see `Checker::relax`).
-    if checker.relax(&q, thresholds)? == 0 {
+    // No step frees the start further: self pairs still too close are kept
+    // from closing (see `Checker::relax`); an obstacle still too close
+    // means the start is wedged between obstacles.
+    if checker.relax(&q, thresholds)? > 0 {
         return Err(FieldError::new(
             "q0",
             format!(
-                "the start cannot be freed: {:.1} mm short of the clearances kept",
+                "the start cannot be freed (wedged between obstacles): {:.1} mm short of the clearances kept",
                 -m * 1e3
             ),
         ));

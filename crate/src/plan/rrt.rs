@@ -13,9 +13,9 @@
 //! part of a blocked step when that is at least [`MIN_PROGRESS`] long
 //! ([`Checker::segment_reach`]), and otherwise slides: the step projected
 //! onto the directions that close none of the pairs near their thresholds
-//! ([`Problem::slide`]). Without it a tree rooted where every straight
-//! step soon closes some pair (a start wedged between two boxes) never
-//! grows. It is the second try only: its trees fill with nodes along the
+//! ([`Problem::slide`]). Without it a tree in a narrow passage, where
+//! every straight step soon closes some pair (a gripper between two
+//! boxes), hardly grows. It is the second try only: its trees fill with nodes along the
 //! obstacles, so its paths have more corners (the arm stops at each) and
 //! cost about ten times the evaluations (measured on the PR2 bookshelf).
 
@@ -152,8 +152,8 @@ impl Problem<'_> {
     /// then still ends).
     ///
     /// Between two pairs whose normals oppose (a gripper in a pocket
-    /// between boxes) every straight step closes one of them, so no random
-    /// step is certified; the way out is along the pocket.
+    /// between boxes) every straight step closes one of them, so almost no
+    /// random step is certified; the way out is along the pocket.
     fn slide(
         &mut self,
         from: &[f64],
@@ -179,7 +179,10 @@ impl Problem<'_> {
         let (lo, hi) = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
         let mut step = Vec::with_capacity(n);
         project(&desired, &weights, &lo, &hi, &guards, &mut step);
-        let end: Vec<f64> = from.iter().zip(&step).map(|(a, s)| a + s).collect();
+        let mut end: Vec<f64> = from.iter().zip(&step).map(|(a, s)| a + s).collect();
+        // The projection may leave the joints' box; the segment to the
+        // clamped end stays within it (a box is convex).
+        self.checker.robot().clamp_to_limits(&mut end);
         let length = self.checker.sweep(from, &end);
         if !length.is_finite() || length < MIN_PROGRESS {
             return Ok(None);

@@ -206,7 +206,13 @@ impl CommandMonitor {
 /// avoidance that moves away and back, twice, is not one): a
 /// `chattering` event naming the joint (`command:<joint>`) and a stop,
 /// whatever the policy (a command cannot be locked).
-pub(super) fn monitor_command(model: &Model, state: &mut State, log: &mut EventLog) {
+///
+/// `path` is the `joints` task's reference velocity this step (empty
+/// without one): a reversal to the direction the path itself now moves
+/// that joint in is the path's, not an oscillation, and is not counted.
+/// A planned path stops at each of its waypoints, and one that creeps out
+/// between boxes turns a joint back and forth more than six times in 4 s.
+pub(super) fn monitor_command(model: &Model, state: &mut State, log: &mut EventLog, path: &[f64]) {
     let dep = model.scenario.dependability;
     let window = 8.0 * dep.switch_window;
     let n = state.motion.qdot.len();
@@ -222,7 +228,10 @@ pub(super) fn monitor_command(model: &Model, state: &mut State, log: &mut EventL
         .enumerate()
     {
         let count = if v.abs() > REVERSAL_SPEED * j.max_velocity && v.signum() != m.signs[k] {
-            let reversal = m.signs[k] != 0.0;
+            let asked = path
+                .get(k)
+                .is_some_and(|r| *r != 0.0 && r.signum() == v.signum());
+            let reversal = m.signs[k] != 0.0 && !asked;
             m.signs[k] = v.signum();
             if reversal {
                 m.counters[k].record(state.t, window)

@@ -80,6 +80,6 @@ fn stages(
     maybe_resume(state, log, all_hold);
     // 8.–9. limit and integrate, then the command monitor
     limit_and_integrate(model, state, data, dt);
-    monitor_command(model, state, log);
+    monitor_command(model, state, log, &data.joint_path.qdot);
     Ok(())
 }
