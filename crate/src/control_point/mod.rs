@@ -347,6 +347,7 @@ impl DhPoint {
     /// [`DhPoint::jacobians`] into existing storage (no allocation once `out`
     /// has the right size). Each column is read from the per-row axes of the
     /// [`Frames`] pass: one cross product per revolute ancestor.
+    #[inline(always)]
     pub fn jacobians_into(&self, robot: &Robot, frames: &Frames, out: &mut PointJacobians) {
         let n = robot.dof();
         let p = self.position(robot, frames);
