@@ -123,15 +123,9 @@ fn a_local_minimum_of_the_reactive_controller_is_reached_on_a_plan() {
     assert!(plan.unwrap().is_ok());
     let o = reach::run(&guided).unwrap();
     eprintln!(
-        "{STUCK}: reactive ends {:.1} mm off; planned reaches in {:.2} s, final {:.2} mm {:.2}°, peak q̇/limit {:.2}, q̈/limit {:.2}, jerk/limit {:.2}, clearance {:.1} mm",
+        "{STUCK}: reactive ends {:.1} mm off; planned {}",
         reactive.final_error.0 * 1e3,
-        o.reached.unwrap_or(f64::NAN),
-        o.final_error.0 * 1e3,
-        o.final_error.1,
-        o.audit.velocity,
-        o.audit.acceleration,
-        o.audit.jerk,
-        o.audit.clearance * 1e3
+        summary(&o)
     );
     assert!(o.success, "{o:?}");
     assert!(o.audit.admissible());
@@ -146,8 +140,8 @@ fn a_local_minimum_of_the_reactive_controller_is_reached_on_a_plan() {
 fn a_start_in_contact_escapes_and_creeps_through_to_its_goal() {
     // Its fitted volumes overlap a box by 2.5 mm; once out, the first
     // search finds no path in 4000 rounds, the creeping one does.
-    const WEDGED: &str = "pr2/industrial_a/50";
-    let p = pr2(WEDGED);
+    const IN_CONTACT: &str = "pr2/industrial_a/50";
+    let p = pr2(IN_CONTACT);
     let options = PlanOptions::default();
     let (mut checker, start) = Checker::for_scenario(&p.scenario).unwrap();
     let (start_clearance, _) = checker.clearances(&start).unwrap();
@@ -169,17 +163,12 @@ fn a_start_in_contact_escapes_and_creeps_through_to_its_goal() {
     let (guided, _) = Controller::Planned.guided(&p);
     let o = reach::run(&guided).unwrap();
     eprintln!(
-        "{WEDGED}: start {:.1} mm; plan of {} configurations ({} escaping), {} evaluations; reached in {:.2} s, final {:.2} mm {:.2}°, peak q̇/limit {:.2}, q̈/limit {:.2}, jerk/limit {:.2}",
+        "{IN_CONTACT}: start {:.1} mm; plan of {} configurations ({} escaping), {} evaluations; {}",
         start_clearance * 1e3,
         plan.configurations.len(),
         plan.escape,
         plan.evaluations,
-        o.reached.unwrap_or(f64::NAN),
-        o.final_error.0 * 1e3,
-        o.final_error.1,
-        o.audit.velocity,
-        o.audit.acceleration,
-        o.audit.jerk,
+        summary(&o)
     );
     // Strict success: reached within 1 cm and 2°, within every limit, and
     // no contact began while the arm moved (the one at the start was there).
@@ -230,6 +219,20 @@ fn a_start_wedged_between_boxes_is_refused_with_the_field_named() {
     .unwrap_err();
     assert_eq!(e.field, "q0");
     assert!(e.reason.contains("wedged"), "{e}");
+}
+
+/// How a run went, for the tests' logs.
+fn summary(o: &reach::Outcome) -> String {
+    format!(
+        "reached in {:.2} s, final {:.2} mm {:.2}°, peak q̇/limit {:.2}, q̈/limit {:.2}, jerk/limit {:.2}, clearance {:.1} mm",
+        o.reached.unwrap_or(f64::NAN),
+        o.final_error.0 * 1e3,
+        o.final_error.1,
+        o.audit.velocity,
+        o.audit.acceleration,
+        o.audit.jerk,
+        o.audit.clearance * 1e3
+    )
 }
 
 fn planar(task: TaskSpec, avoidance: &str) -> Result<Scenario, String> {
