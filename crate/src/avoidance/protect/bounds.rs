@@ -290,6 +290,7 @@ mod tests {
         let mut x = Vec::new();
         let plain = project(&desired, &[], &lo, &hi, &guards, &mut x);
         assert!(plain.violation > INFEASIBLE_TOLERANCE, "{plain:?}");
+        // Test code: a `None` here is the failure this test looks for.
         let (held, x) = hold_ground(&desired, &[], &lo, &hi, &guards).unwrap();
         assert!(held.worst.is_none());
         for g in &guards {
