@@ -209,8 +209,10 @@ fn a_path_that_turns_a_joint_back_and_forth_is_not_stopped_as_an_oscillation() {
 
 #[test]
 fn a_start_wedged_between_boxes_is_refused_with_the_field_named() {
-    // The gripper and forearm overlap boxes by up to 38 mm, between them.
-    let p = pr2("pr2/industrial_b/8");
+    // The wrist overlaps a box by 14.7 mm, another box behind it: the
+    // escape gets no nearer than 5.9 mm to the box it climbs out of,
+    // short of the 12 mm (safety distance and 2 mm) a path keeps.
+    let p = pr2("pr2/counter/27");
     let e = plan_path(
         &p.scenario,
         p.goal_q.as_ref().unwrap(),
@@ -219,6 +221,32 @@ fn a_start_wedged_between_boxes_is_refused_with_the_field_named() {
     .unwrap_err();
     assert_eq!(e.field, "q0");
     assert!(e.reason.contains("wedged"), "{e}");
+}
+
+// Native only, as the test above it.
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+fn a_start_between_boxes_climbs_out_in_one_straight_segment_and_reaches_its_goal() {
+    // The gripper overlaps one box by 12.6 mm with another 20 mm behind
+    // it: no configuration nearby keeps the band from both. The escape
+    // opens both pairs at once, stops where it gains no more, keeps those
+    // pairs from closing further, and is straightened to one segment.
+    const BETWEEN: &str = "pr2/industrial_b/31";
+    let p = pr2(BETWEEN);
+    let goal = p.goal_q.clone().unwrap();
+    let plan = plan_path(&p.scenario, &goal, &PlanOptions::default()).unwrap();
+    assert_eq!(plan.escape, 1);
+    let (guided, _) = Controller::Planned.guided(&p);
+    let o = reach::run(&guided).unwrap();
+    eprintln!(
+        "{BETWEEN}: plan of {} configurations, {:.2} s; {}",
+        plan.configurations.len(),
+        plan.times.last().unwrap(),
+        summary(&o)
+    );
+    assert!(o.start_clearance < -0.01, "{}", o.start_clearance);
+    assert!(o.success, "{o:?}");
+    assert!(o.audit.moving_contact.is_none());
 }
 
 /// How a run went, for the tests' logs.

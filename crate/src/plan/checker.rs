@@ -233,28 +233,36 @@ impl Checker {
         Ok(gradients)
     }
 
-    /// Keeps every self pair closer than `thresholds` at `q` at a threshold
-    /// of its own, its clearance there less `3 MIN_MARGIN`: the planner
-    /// keeps such a pair (two of the arm's volumes that overlap at a start
-    /// no motion frees, e.g. one that turns about its own axis) from
-    /// closing further, and every other pair at `thresholds`. Returns how
-    /// many obstacle pairs at `q` are closer than that: those are not
-    /// relaxed (module docs, escape).
+    /// Keeps every pair closer than `thresholds` at `q` at a threshold of
+    /// its own, its clearance there less `3 MIN_MARGIN` (`6 MIN_MARGIN` for
+    /// a self pair): the planner keeps such a pair (an arm the escape
+    /// cannot free further, or two of its volumes that overlap, e.g. one
+    /// that turns about its own axis) from closing further, and every
+    /// other pair at `thresholds`. An obstacle pair is relaxed only down to
+    /// `floor`; returns by how much the closest one falls short of it (m,
+    /// 0 when none does: module docs of `escape.rs`).
     ///
     /// # Errors
     /// As [`Checker::clearances`].
-    pub fn relax(&mut self, q: &[f64], thresholds: &Thresholds) -> Result<usize, FieldError> {
-        let mut short = 0;
+    pub fn relax(
+        &mut self,
+        q: &[f64],
+        thresholds: &Thresholds,
+        floor: f64,
+    ) -> Result<f64, FieldError> {
+        let mut short: f64 = 0.0;
         for p in self.pairs(q)? {
             match p.target {
-                Target::Obstacle { .. } => {
-                    short += usize::from(p.distance < thresholds.obstacles + 3.0 * MIN_MARGIN);
+                Target::Obstacle { .. } if p.distance < thresholds.obstacles + 3.0 * MIN_MARGIN => {
+                    let own = p.distance - 3.0 * MIN_MARGIN;
+                    short = short.max(floor - own);
+                    self.relaxed.push((p.segment, p.target, own));
                 }
                 Target::Segment(_) if p.distance < thresholds.self_pairs + 6.0 * MIN_MARGIN => {
                     self.relaxed
                         .push((p.segment, p.target, p.distance - 6.0 * MIN_MARGIN));
                 }
-                Target::Segment(_) => {}
+                Target::Obstacle { .. } | Target::Segment(_) => {}
             }
         }
         Ok(short)

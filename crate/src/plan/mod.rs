@@ -16,25 +16,29 @@
 //! The steps ([`plan_path`]):
 //! 1. **Escape.** A start closer to an obstacle than the thresholds (the
 //!    benchmark's fitted volumes overlap some of its starts) first climbs
-//!    the clearance, by its finite-difference gradient, until it is clear.
-//!    A start that no step frees from an obstacle (an arm wedged between
-//!    boxes) is refused, and left to the reactive controller: planned
-//!    paths out of such wedges were built (each pair kept from closing
-//!    further), and on the PR2 set the arm following them was stopped by
-//!    the command monitor in every case, while the reactive controller
-//!    reached 5 of those goals.
+//!    its clearance, opening every nearly-closest pair at once, and the
+//!    climb is straightened to as few segments as keep its margin
+//!    (`escape.rs`). A start between two boxes that no step frees further
+//!    keeps each pair still short from closing further, as long as it is
+//!    beyond the protective layer's safety distance and 2 mm; nearer (an
+//!    arm wedged between boxes), the start is refused and left to the
+//!    reactive controller.
 //! 2. **Search.** RRT-Connect between the start and the goal (`rrt.rs`),
 //!    with segments certified by a Lipschitz bound ([`checker`]), not
 //!    sampled; when that finds no path, a second search whose trees creep
 //!    and slide along the obstacles (a narrow passage between boxes).
-//! 3. **Shorten.** Greedy, then random shortcuts.
+//! 3. **Shorten.** Greedy (from each node kept, the farthest node in
+//!    view), then random shortcuts kept only where they save time: the arm
+//!    stops at every node, so a shortcut that adds two saves little.
 //! 4. **Time.** Each segment is a rest-to-rest quintic whose duration keeps
 //!    every joint within its velocity, acceleration and jerk limits, with
 //!    [`PlanOptions::time_scale`] to spare for the controller's feedback.
 //!
-//! Files: `mod.rs` (the steps, the timing), `checker.rs`, `rrt.rs`.
+//! Files: `mod.rs` (the steps, the timing), `checker.rs`, `escape.rs`,
+//! `rrt.rs`.
 
 pub mod checker;
+mod escape;
 mod rrt;
 
 use checker::{Checker, MIN_MARGIN, Thresholds};
@@ -189,7 +193,8 @@ pub fn plan_path(
         self_pairs: options.self_clearance.min(goal_self - 6.0 * MIN_MARGIN),
     };
     let mut rng = Rng::new(options.seed);
-    let mut path = escape(&mut checker, &start, &thresholds, &mut rng)?;
+    let floor = controller.protective.safety_distance + escape::FLOOR_ABOVE_SAFETY;
+    let mut path = escape::escape(&mut checker, &start, (&thresholds, floor), &mut rng)?;
     let escape = path.len() - 1;
     let bounds: Vec<(f64, f64)> = checker
         .robot()
@@ -243,107 +248,34 @@ fn sampling_bounds(min: f64, max: f64, start: f64) -> (f64, f64) {
     )
 }
 
-/// The escape from `start` (module docs, step 1): the configurations from
-/// `start` to the first with a margin of `3 MIN_MARGIN` at least. Each
-/// step moves the arm by 2 cm at most (1 cm, 5 mm when no longer step
-/// gains), the best of the margin's
-/// finite-difference gradient and 24 random directions: the margin is the
-/// smallest over many pairs, and where two pairs are equally close the
-/// gradient of one can close the other, so climbing by the gradient alone
-/// stalls.
-fn escape(
-    checker: &mut Checker,
-    start: &[f64],
-    thresholds: &Thresholds,
-    rng: &mut Rng,
-) -> Result<Vec<Vec<f64>>, FieldError> {
-    const STEPS: [f64; 3] = [0.02, 0.01, 0.005];
-    const H: f64 = 1e-5;
-    const TRIES: usize = 24;
-    let mut path = vec![start.to_vec()];
-    let mut q = start.to_vec();
-    let mut m = checker.margin(&q, thresholds)?;
-    let robot = checker.robot().clone();
-    let reach = checker.reach().to_vec();
-    for _ in 0..400 {
-        if m >= 3.0 * MIN_MARGIN {
-            return Ok(path);
-        }
-        let mut best: Option<(Vec<f64>, f64)> = None;
-        for (k, step) in (0..=TRIES).flat_map(|k| STEPS.map(|s| (k, s))) {
-            if best.as_ref().is_some_and(|b| b.1 > m && step < STEPS[0]) {
-                // A long step already gains: shorter ones are not tried.
-                continue;
-            }
-            let dir: Vec<f64> = if k == 0 {
-                let mut grad = vec![0.0; q.len()];
-                for (j, g) in grad.iter_mut().enumerate() {
-                    let mut p = q.clone();
-                    p[j] += H;
-                    *g = (checker.margin(&p, thresholds)? - m) / H;
-                }
-                grad
-            } else {
-                (0..q.len()).map(|_| rng.normal()).collect()
-            };
-            let rate: f64 = dir.iter().zip(&reach).map(|(g, r)| g.abs() * r).sum();
-            if rate <= 0.0 {
-                continue;
-            }
-            let mut next: Vec<f64> = q
-                .iter()
-                .zip(&dir)
-                .map(|(x, g)| x + g * step / rate)
-                .collect();
-            robot.clamp_to_limits(&mut next);
-            let m_next = checker.margin(&next, thresholds)?;
-            if best.as_ref().is_none_or(|b| m_next > b.1) {
-                best = Some((next, m_next));
-            }
-        }
-        match best {
-            Some((next, m_next)) if m_next > m => {
-                (q, m) = (next, m_next);
-                path.push(q.clone());
-            }
-            _ => break,
-        }
-    }
-    // No step frees the start further: self pairs still too close are kept
-    // from closing (see `Checker::relax`); an obstacle still too close
-    // means the start is wedged between obstacles.
-    if checker.relax(&q, thresholds)? > 0 {
-        return Err(FieldError::new(
-            "q0",
-            format!(
-                "the start cannot be freed (wedged between obstacles): {:.1} mm short of the clearances kept",
-                -m * 1e3
-            ),
-        ));
-    }
-    Ok(path)
-}
-
 /// The times of `path`'s configurations: each segment a rest-to-rest
-/// quintic, as short as the joints' velocity, acceleration and jerk limits
-/// allow (peaks `1.875 Δ/T`, `5.774 Δ/T²`, `60 Δ/T³`), times `scale`.
-fn timing(robot: &crate::kinematics::Robot, path: &[Vec<f64>], scale: f64) -> Vec<f64> {
+/// quintic, as short as the joints' limits allow ([`segment_time`]),
+/// times `scale`.
+pub(crate) fn timing(robot: &crate::kinematics::Robot, path: &[Vec<f64>], scale: f64) -> Vec<f64> {
     let mut times = vec![0.0];
     let mut t = 0.0;
     for w in path.windows(2) {
-        let shortest = w[0]
-            .iter()
-            .zip(&w[1])
-            .zip(&robot.joints)
-            .map(|((a, b), j)| {
-                let d = (b - a).abs();
-                (1.875 * d / j.max_velocity)
-                    .max((10.0 / 3f64.sqrt() * d / j.max_acceleration).sqrt())
-                    .max((60.0 * d / j.max_jerk).cbrt())
-            })
-            .fold(0.0, f64::max);
-        t += (shortest * scale.max(1.0)).max(0.05);
+        t += (segment_time(robot, &w[0], &w[1]) * scale.max(1.0)).max(MIN_SEGMENT_TIME);
         times.push(t);
     }
     times
+}
+
+/// Shortest duration of a path's segment (s).
+pub(crate) const MIN_SEGMENT_TIME: f64 = 0.05;
+
+/// The shortest rest-to-rest quintic from `a` to `b` within every joint's
+/// velocity, acceleration and jerk limits (peaks `1.875 Δ/T`,
+/// `5.774 Δ/T²`, `60 Δ/T³`; s).
+pub(crate) fn segment_time(robot: &crate::kinematics::Robot, a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .zip(&robot.joints)
+        .map(|((a, b), j)| {
+            let d = (b - a).abs();
+            (1.875 * d / j.max_velocity)
+                .max((10.0 / 3f64.sqrt() * d / j.max_acceleration).sqrt())
+                .max((60.0 * d / j.max_jerk).cbrt())
+        })
+        .fold(0.0, f64::max)
 }

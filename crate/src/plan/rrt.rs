@@ -20,6 +20,7 @@
 //! cost about ten times the evaluations (measured on the PR2 bookshelf).
 
 use super::checker::{Checker, Thresholds};
+use super::{MIN_SEGMENT_TIME, segment_time};
 use crate::avoidance::protect::{Guard, project};
 use crate::error::FieldError;
 use crate::rng::Rng;
@@ -249,9 +250,19 @@ impl Problem<'_> {
         Ok(None)
     }
 
-    /// `path` shortened: first greedily (from each kept node, the last of
-    /// the run of nodes it sees), then [`Search::shortcuts`] random attempts to join two
-    /// points on the path.
+    /// How long the `joints` task takes over `path` (s): each segment
+    /// timed as the plan times it.
+    fn duration(&self, path: &[Vec<f64>]) -> f64 {
+        path.windows(2)
+            .filter(|w| w[0] != w[1])
+            .map(|w| segment_time(self.checker.robot(), &w[0], &w[1]).max(MIN_SEGMENT_TIME))
+            .sum()
+    }
+
+    /// `path` shortened: first greedily (from each kept node, the farthest
+    /// node it sees), then [`Search::shortcuts`] random attempts to join
+    /// two points on the path, each kept only if the path then takes less
+    /// time (a shortcut adds two nodes, and the arm stops at each).
     pub fn shorten(
         &mut self,
         path: Vec<Vec<f64>>,
@@ -263,13 +274,18 @@ impl Problem<'_> {
         let mut out = vec![first.clone()];
         let mut i = 0;
         while i + 1 < path.len() {
+            // The farthest node the straight segment reaches: walking on
+            // only while the next one is reached stops at the first
+            // corner a passage forces, and every node left costs a stop.
             let mut j = i + 1;
-            while j + 1 < path.len()
-                && self
+            for k in (i + 2..path.len()).rev() {
+                if self
                     .checker
-                    .segment_free(&path[i], &path[j + 1], &self.thresholds)?
-            {
-                j += 1;
+                    .segment_free(&path[i], &path[k], &self.thresholds)?
+                {
+                    j = k;
+                    break;
+                }
             }
             out.push(path[j].clone());
             i = j;
@@ -281,13 +297,16 @@ impl Problem<'_> {
             let (a, b) = two_points(out.len(), rng);
             let pa = point_on(&out, a);
             let pb = point_on(&out, b);
-            if self.checker.segment_free(&pa, &pb, &self.thresholds)? {
-                let (ia, ib) = (a.floor() as usize, b.floor() as usize);
-                let mut next = out[..=ia].to_vec();
-                next.push(pa);
-                next.push(pb);
-                next.extend_from_slice(&out[ib + 1..]);
-                next.dedup();
+            let (ia, ib) = (a.floor() as usize, b.floor() as usize);
+            let mut next = out[..=ia].to_vec();
+            next.push(pa.clone());
+            next.push(pb.clone());
+            next.extend_from_slice(&out[ib + 1..]);
+            next.dedup();
+            // Kept only if it saves time: each node it adds is a stop.
+            if self.duration(&next) < self.duration(&out)
+                && self.checker.segment_free(&pa, &pb, &self.thresholds)?
+            {
                 out = next;
             }
         }
