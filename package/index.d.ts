@@ -882,9 +882,9 @@ export interface PlanOptions {
   step?: number | undefined;
   /** Rounds of RRT-Connect before giving up (default 4000, at most 1e6). */
   rounds?: number | undefined;
-  /** Random shortcut attempts (default 200). */
+  /** Random shortcut attempts, each kept only if the path then takes less time (default 200). */
   shortcuts?: number | undefined;
-  /** Each segment's duration over the shortest the joint limits allow (≥ 1; default 1.1). */
+  /** Each segment's duration over the shortest the joint limits allow (≥ 1; default 1: none to spare). */
   timeScale?: number | undefined;
 }
 /** A timed joint-space path: follow it with `{ type: 'joints', configurations, times }`. */
