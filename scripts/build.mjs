@@ -73,7 +73,7 @@ export function buildWasm(which, { dev = false } = {}) {
   }
   const gz = shrinkWasm(path.join(repo, 'crate', 'pkg', 'skeleton_avoidance_bg.wasm'));
   if (gz < 0) return 1;
-  console.log(`build: crate/pkg wasm ${(gz / 1e6).toFixed(3)} MB gzipped (budget 1.85 MB: scripts/site.mjs, tests/package/pages.mjs)`);
+  console.log(`build: crate/pkg wasm ${(gz / 1e6).toFixed(3)} MB gzipped (budget 1.86 MB: scripts/site.mjs, tests/package/pages.mjs)`);
   return 0;
 }
 

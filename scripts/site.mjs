@@ -21,7 +21,7 @@ import { PRESET_MESHES } from '../web/preset-meshes.js';
 import { copyEstimator } from './estimator-files.mjs';
 
 /**
- * The size budget of the gzipped wasm, bytes (1.85 MB): 1.5 MB until the
+ * The size budget of the gzipped wasm, bytes (1.86 MB): 1.5 MB until the
  * mesh readers came in (mesh-loader for STL, OBJ, COLLADA and gltf for
  * glTF/GLB, about 120 and 95 kB gzipped on their own), 1.61 MB with them,
  * 1.72 MB with the articulated human, its keypoint tracks and the
@@ -31,11 +31,13 @@ import { copyEstimator } from './estimator-files.mjs';
  * 15066 power and force limiting), NEO as a baseline controller and the
  * live sensor stream (pushHumanFrame, BlazePose's layout), 1.812 MB with
  * the cold crates (urdf-rs's regular expressions, parry, WebGL2's calls)
- * built for size. A budget against growth, not a goal: splitting the mesh
+ * built for size, 1.852 MB with the planner (`planPath`: the certified
+ * checker, RRT-Connect and its creeping search, the escape's QP and its
+ * straightening, 2026-11-29). A budget against growth, not a goal: splitting the mesh
  * and URDF readers into a module loaded with the first URDF is the way
  * back under 1.5 MB.
  */
-const LIMIT = 1_850_000;
+const LIMIT = 1_860_000;
 /**
  * The size budget of dist/robots/ (bytes, uncompressed): the iiwa 14's, the
  * Panda's and the UR5's URDFs, collision meshes and licences, each robot's

@@ -17,13 +17,14 @@ import { decodePng } from '../browser/png.mjs';
  * 2026-11-24). Vite also bundles the study worker (the Monte Carlo panel of
  * controls="full") with a copy of its own, fetched only when a study runs:
  * 4.71 MB in all, of which the page loads half. The compat budgets follow
- * the wasm's: 1.38 × `WASM_BUDGET` plus the element (2.56 MB), twice that
- * for Vite's two copies (5.1 MB); measured 2026-11-28 with the module at
- * 1.820 MB: 2.509 MB (esbuild) and 4.97 MB (Vite).
+ * the wasm's: 1.38 × `WASM_BUDGET` plus the element (2.575 MB), twice that
+ * for Vite's two copies (5.15 MB); measured 2026-11-28 with the module at
+ * 1.820 MB: 2.509 MB (esbuild) and 4.97 MB (Vite); 2026-11-29 with the
+ * module at 1.852 MB: 2.548 MB (esbuild).
  */
-export const JS_BUDGET = { vite: 90_000, webpack: 90_000, esbuild: 70_000, 'esbuild compat': 2_560_000, 'vite compat': 5_100_000 };
+export const JS_BUDGET = { vite: 90_000, webpack: 90_000, esbuild: 70_000, 'esbuild compat': 2_575_000, 'vite compat': 5_150_000 };
 /** Gzipped bytes of the wasm (the module with the renderer). */
-export const WASM_BUDGET = 1_850_000;
+export const WASM_BUDGET = 1_860_000;
 
 export const app = (from = 'skeleton-avoidance') => `
 import { World, simulate, exampleScenario, presetNames } from '${from}';
