@@ -93,7 +93,7 @@ const SAMPLE: f64 = 0.001;
 /// `path` (an escape, its margin rising from node to node) with as many
 /// nodes left out as keep the margin: from each node kept, the next is the
 /// farthest whose straight segment keeps, at samples [`SAMPLE`] of sweep
-/// apart, the margin of the node it leaves. The climb zigzags (each step
+/// apart, the margin of the node it leaves ([`super::skip_nodes`]). The climb zigzags (each step
 /// the best of a few directions), and the `joints` task stops the arm at
 /// every node: on the PR2 starts between boxes, escapes of 50–60 nodes
 /// took 4 s of the 10 s a problem has.
@@ -102,21 +102,10 @@ fn straighten(
     path: Vec<Vec<f64>>,
     thresholds: &Thresholds,
 ) -> Result<Vec<Vec<f64>>, FieldError> {
-    let Some(first) = path.first() else {
-        return Ok(path);
-    };
-    let mut out = vec![first.clone()];
-    let mut i = 0;
-    while i + 1 < path.len() {
-        let floor = checker.margin(&path[i], thresholds)?;
-        let mut j = i + 1;
-        while j + 1 < path.len() && keeps(checker, (&path[i], &path[j + 1]), thresholds, floor)? {
-            j += 1;
-        }
-        out.push(path[j].clone());
-        i = j;
-    }
-    Ok(out)
+    super::skip_nodes(path, |a, b| {
+        let floor = checker.margin(a, thresholds)?;
+        keeps(checker, (a, b), thresholds, floor)
+    })
 }
 
 /// Whether every sample of the straight segment `a`–`b` keeps a margin of
@@ -218,25 +207,20 @@ fn opening(
         h.data[i * n + i] = (r * r).max(1e-12);
     }
     let robot = checker.robot();
-    let at = |j: usize, lim: f64| (q[j] - lim).abs() < 1e-9;
-    let lo: Vec<f64> = (0..n)
-        .map(|j| {
-            if at(j, robot.joints[j].min) {
-                0.0
-            } else {
-                f64::NEG_INFINITY
-            }
-        })
-        .collect();
-    let hi: Vec<f64> = (0..n)
-        .map(|j| {
-            if at(j, robot.joints[j].max) {
-                0.0
-            } else {
-                f64::INFINITY
-            }
-        })
-        .collect();
+    // A joint at a limit may only move away from it.
+    let pinned = |limit: fn(&crate::kinematics::Joint) -> f64, free: f64| -> Vec<f64> {
+        (0..n)
+            .map(|j| {
+                if (q[j] - limit(&robot.joints[j])).abs() < 1e-9 {
+                    0.0
+                } else {
+                    free
+                }
+            })
+            .collect()
+    };
+    let lo = pinned(|j| j.min, f64::NEG_INFINITY);
+    let hi = pinned(|j| j.max, f64::INFINITY);
     let rows: Vec<(&[f64], f64)> = rows.iter().map(|r| (r.as_slice(), -1.0)).collect();
     let problem = qp::Problem {
         h: &h,

@@ -248,6 +248,34 @@ fn sampling_bounds(min: f64, max: f64, start: f64) -> (f64, f64) {
     )
 }
 
+/// `path` with the nodes left out that a straight segment can skip: from
+/// each node kept, the next is the farthest node `b` for which
+/// `sees(a, b)` holds (tried from the last one down), else the next node.
+/// Walking on only while the next node is seen stops at the first corner
+/// a passage forces, and the arm stops at every node kept.
+fn skip_nodes(
+    path: Vec<Vec<f64>>,
+    mut sees: impl FnMut(&[f64], &[f64]) -> Result<bool, FieldError>,
+) -> Result<Vec<Vec<f64>>, FieldError> {
+    let Some(first) = path.first() else {
+        return Ok(path);
+    };
+    let mut out = vec![first.clone()];
+    let mut i = 0;
+    while i + 1 < path.len() {
+        let mut j = i + 1;
+        for k in (i + 2..path.len()).rev() {
+            if sees(&path[i], &path[k])? {
+                j = k;
+                break;
+            }
+        }
+        out.push(path[j].clone());
+        i = j;
+    }
+    Ok(out)
+}
+
 /// The times of `path`'s configurations: each segment a rest-to-rest
 /// quintic, as short as the joints' limits allow ([`segment_time`]),
 /// times `scale`.

@@ -268,28 +268,9 @@ impl Problem<'_> {
         path: Vec<Vec<f64>>,
         rng: &mut Rng,
     ) -> Result<Vec<Vec<f64>>, FieldError> {
-        let Some(first) = path.first() else {
-            return Ok(path);
-        };
-        let mut out = vec![first.clone()];
-        let mut i = 0;
-        while i + 1 < path.len() {
-            // The farthest node the straight segment reaches: walking on
-            // only while the next one is reached stops at the first
-            // corner a passage forces, and every node left costs a stop.
-            let mut j = i + 1;
-            for k in (i + 2..path.len()).rev() {
-                if self
-                    .checker
-                    .segment_free(&path[i], &path[k], &self.thresholds)?
-                {
-                    j = k;
-                    break;
-                }
-            }
-            out.push(path[j].clone());
-            i = j;
-        }
+        let thresholds = self.thresholds;
+        let checker = &mut *self.checker;
+        let mut out = super::skip_nodes(path, |a, b| checker.segment_free(a, b, &thresholds))?;
         for _ in 0..self.search.shortcuts {
             if out.len() < 3 {
                 break;
