@@ -69,17 +69,25 @@ impl Frames {
 
     pub(super) fn compute(&mut self, robot: &Robot, q: &[f64], qdot: Option<&[f64]>) {
         let n = robot.dof();
-        self.clear();
-        self.reserve(n, robot.chains.len(), qdot.is_some());
+        self.resize(n, robot.chains.len(), qdot.is_some());
         self.convention = Some(robot.convention);
-        self.transforms.push(robot.base);
         if let Some(qd) = qdot {
             self.omega.push(DVec3::ZERO);
             self.velocity.push(DVec3::ZERO);
             self.qdot.extend_from_slice(qd);
         }
+        // Every per-row list has exactly `n` entries (the frames `n + 1`),
+        // each written once below: slices of that length let the compiler
+        // drop the bounds checks and the pushes' capacity checks.
+        let q = &q[..n];
+        let transforms = &mut self.transforms[..=n];
+        let (starts, mids, ds) = (&mut self.starts[..n], &mut self.mids[..n], &mut self.d[..n]);
+        let axes = &mut self.axis[..n];
+        let (axis_points, a_directions) = (&mut self.axis_point[..n], &mut self.a_direction[..n]);
+        let alpha_memo = &mut self.alpha_memo[..n];
+        transforms[0] = robot.base;
         for (i, joint) in robot.joints.iter().enumerate() {
-            let parent = self.transforms[joint.parent];
+            let parent = transforms[joint.parent];
             let start = match joint.mount {
                 Some(m) => DAffine3 {
                     matrix3: parent.matrix3 * DMat3::from_quat(m),
@@ -91,7 +99,7 @@ impl Frames {
                 JointType::Revolute => (joint.theta + q[i], joint.d),
                 JointType::Prismatic => (joint.theta, joint.d + q[i]),
             };
-            let alpha = self.alpha_sin_cos(i, joint.alpha);
+            let alpha = alpha_sin_cos(&mut alpha_memo[i], joint.alpha);
             let row = Row::new(robot.convention, &start, joint.a, d, theta, alpha);
             if let Some(qd) = qdot {
                 let (w, v) = row.velocity(
@@ -102,80 +110,61 @@ impl Frames {
                 self.omega.push(w);
                 self.velocity.push(v);
             }
-            self.starts.push(start);
-            self.mids.push(row.mid);
-            self.d.push(d);
-            match robot.convention {
-                Convention::Standard => {
-                    self.axis.push(row.zs);
-                    self.axis_point.push(row.o0);
-                    self.a_direction.push(row.x);
-                }
-                Convention::Modified => {
-                    self.axis.push(row.z);
-                    self.axis_point.push(row.mid);
-                    self.a_direction.push(row.xs);
-                }
-            }
-            self.transforms.push(DAffine3 {
+            starts[i] = start;
+            mids[i] = row.mid;
+            ds[i] = d;
+            (axes[i], axis_points[i], a_directions[i]) = match robot.convention {
+                Convention::Standard => (row.zs, row.o0, row.x),
+                Convention::Modified => (row.z, row.mid, row.xs),
+            };
+            transforms[i + 1] = DAffine3 {
                 matrix3: DMat3::from_cols(row.x, row.y, row.z),
                 translation: row.origin,
-            });
+            };
         }
         for chain in &robot.chains {
             self.end_effectors
                 .push(self.transforms[chain.last] * chain.tool);
         }
-        debug_assert_eq!(self.transforms.len(), n + 1);
     }
 
-    /// Empties every list (keeping their storage and the `α` memo).
-    fn clear(&mut self) {
-        self.transforms.clear();
-        self.starts.clear();
-        self.mids.clear();
-        self.d.clear();
-        self.axis.clear();
-        self.axis_point.clear();
-        self.a_direction.clear();
+    /// Sizes every list for `n` rows and `chains` end effectors (and the
+    /// velocities): the per-row lists and the frames to their final length
+    /// (a no-op once they have it; [`Frames::compute`] overwrites every
+    /// entry), the others empty with room to grow once. The `α` memo only
+    /// grows: its entries are checked against the row's `α` on use.
+    fn resize(&mut self, n: usize, chains: usize, velocity: bool) {
+        self.transforms.resize(n + 1, DAffine3::IDENTITY);
+        self.starts.resize(n, DAffine3::IDENTITY);
+        self.mids.resize(n, DVec3::ZERO);
+        self.d.resize(n, 0.0);
+        self.axis.resize(n, DVec3::ZERO);
+        self.axis_point.resize(n, DVec3::ZERO);
+        self.a_direction.resize(n, DVec3::ZERO);
+        if self.alpha_memo.len() < n {
+            self.alpha_memo.resize(n, (f64::NAN, 0.0, 0.0));
+        }
         self.end_effectors.clear();
+        self.end_effectors.reserve(chains);
         self.omega.clear();
         self.velocity.clear();
         self.qdot.clear();
-    }
-
-    /// Room for `n` rows and `chains` end effectors (and the velocities), so
-    /// that a new `Frames` allocates each list once instead of growing it
-    /// row by row (a no-op once the storage is there).
-    fn reserve(&mut self, n: usize, chains: usize, velocity: bool) {
-        self.transforms.reserve(n + 1);
-        self.starts.reserve(n);
-        self.mids.reserve(n);
-        self.d.reserve(n);
-        self.axis.reserve(n);
-        self.axis_point.reserve(n);
-        self.a_direction.reserve(n);
-        self.end_effectors.reserve(chains);
-        self.alpha_memo.reserve(n);
         if velocity {
             self.omega.reserve(n + 1);
             self.velocity.reserve(n + 1);
             self.qdot.reserve(n);
         }
     }
+}
 
-    /// `(sin α, cos α)` of row `i`, computed again only when `α` changed.
-    fn alpha_sin_cos(&mut self, i: usize, alpha: f64) -> (f64, f64) {
-        if self.alpha_memo.len() <= i {
-            self.alpha_memo.push((f64::NAN, 0.0, 0.0));
-        }
-        let memo = &mut self.alpha_memo[i];
-        if memo.0.to_bits() != alpha.to_bits() {
-            let (s, c) = crate::math::sin_cos(alpha);
-            *memo = (alpha, s, c);
-        }
-        (memo.1, memo.2)
+/// `(sin α, cos α)` of a row from its memo `(α, sin α, cos α)`, computed
+/// again only when `α` changed.
+fn alpha_sin_cos(memo: &mut (f64, f64, f64), alpha: f64) -> (f64, f64) {
+    if memo.0.to_bits() != alpha.to_bits() {
+        let (s, c) = crate::math::sin_cos(alpha);
+        *memo = (alpha, s, c);
     }
+    (memo.1, memo.2)
 }
 
 /// One DH row applied to its start frame (axes `xs`, `zs`, origin `o0`):
