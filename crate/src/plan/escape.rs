@@ -93,10 +93,10 @@ const SAMPLE: f64 = 0.001;
 /// `path` (an escape, its margin rising from node to node) with as many
 /// nodes left out as keep the margin: from each node kept, the next is the
 /// farthest whose straight segment keeps, at samples [`SAMPLE`] of sweep
-/// apart, the margin of the node it leaves ([`super::skip_nodes`]). The climb zigzags (each step
-/// the best of a few directions), and the `joints` task stops the arm at
-/// every node: on the PR2 starts between boxes, escapes of 50–60 nodes
-/// took 4 s of the 10 s a problem has.
+/// apart, the margin of the node it leaves ([`super::skip_nodes`]). The
+/// climb zigzags (each step the best of a few directions), and the
+/// `joints` task stops the arm at every node: on the PR2 starts between
+/// boxes, escapes of 50–60 nodes took 4 s of the 10 s a problem has.
 fn straighten(
     checker: &mut Checker,
     path: Vec<Vec<f64>>,
