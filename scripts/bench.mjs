@@ -1,15 +1,17 @@
 // `npm run bench`: the criterion benchmarks natively (their own reports),
-// then, for the workloads with a native/wasm goal, tables that alternate
-// native rounds (the bench binaries' batch mode) with the same rounds in wasm
-// under Node, so that both see the same machine load and the ratios are
-// measured in this run. Machines are shared and noisy: medians, not means.
+// then, for the workloads with a native/wasm goal, tables of paired batches:
+// each native batch (a bench binary serving batches) timed back to back with
+// the same batch in wasm under Node (bench-pairs.mjs), so that both see the
+// same machine load and the ratios are measured in this run. Machines are
+// shared and noisy: medians, not means.
 //
 // Last, the playground's frame rate in headless Chromium (bench-frames.mjs).
 //
 //   npm run bench [-- --tables]   (--tables skips the criterion runs;
 //                                  --tables --against <dir> measures this
-//                                  control step against another checkout's,
-//                                  interleaved: bench-step-ab.mjs)
+//                                  kinematics and control steps against
+//                                  another checkout's in paired
+//                                  batches: bench-step-ab.mjs; --pairs N)
 //   npm run bench -- --frames     (only the frame-rate table; --only a,b
 //                                  measures those rows; --against <dir>
 //                                  measures this build against another,
@@ -37,9 +39,10 @@ import { buildWasm } from './build.mjs';
 import { frameRows, frameTable } from './bench-frames.mjs';
 import { cameraTable } from './bench-camera.mjs';
 import { abTable } from './bench-ab.mjs';
-import { median, nativeRound as nativeRoundIn, stepAbTable, wasmControlStep, wasmMedian } from './bench-step-ab.mjs';
+import { median, nativeRound as nativeRoundIn } from './bench-step-ab.mjs';
+import { runPinned } from './bench-pairs.mjs';
 
-// The wasm rounds time V8's optimising tier (TurboFan), as the native rounds
+// The wasm batches time V8's optimising tier (TurboFan), as the native ones
 // time optimised code: by default V8 first runs Liftoff's baseline code and
 // tiers a function up only after a budget of work, in the background; on a
 // loaded machine that took seconds (the 10-sphere control step ran at 90 µs
@@ -77,8 +80,7 @@ if (process.argv.includes('--frames')) {
 }
 if (quick && option('against')) {
   if (buildWasm('node') !== 0) process.exit(1);
-  stepAbTable(option('against'), Number(option('rounds') ?? 5));
-  process.exit(0);
+  process.exit(runPinned([path.join(repo, 'scripts', 'bench-step-ab.mjs'), option('against'), option('pairs') ?? '21']));
 }
 for (const b of quick ? [] : benches) {
   console.log(`\n=== cargo bench --bench ${b}`);
@@ -104,49 +106,9 @@ const sa = require(path.join(repo, 'crate', 'pkg-node', 'skeleton_avoidance.js')
 
 const nativeRound = (bench) => nativeRoundIn(repo, bench);
 
-/**
- * Alternates native and wasm rounds (`rounds` each) so that both see the same
- * machine load; prints one table with medians and the median per-round ratio.
- */
-function table(title, bench, wasm, goals, rounds) {
-  const samples = { native: {}, wasm: {} };
-  for (let k = 0; k < rounds; k++) {
-    for (const [kind, fn] of [['native', () => nativeRound(bench)], ['wasm', wasm]]) {
-      for (const [id, ns] of Object.entries(fn())) (samples[kind][id] ??= []).push(ns);
-    }
-  }
-  console.log(`\n=== ${title}`);
-  console.log(`(${rounds} alternating native/wasm rounds; medians per step; ratio = median of the per-round ratios)`);
-  console.log(`${'workload'.padEnd(26)} ${'native µs'.padStart(10)} ${'wasm µs'.padStart(10)} ${'wasm/native'.padStart(12)}  goal`);
-  for (const id of Object.keys(samples.native)) {
-    const n = samples.native[id];
-    const w = samples.wasm[id] ?? [];
-    const ratio = median(n.map((x, k) => w[k] / x));
-    const us = (x) => (x / 1000).toFixed(x < 10_000 ? 3 : 1).padStart(10);
-    console.log(`${id.padEnd(26)} ${us(median(n))} ${us(median(w))} ${ratio.toFixed(2).padStart(12)}  ${goals[id] ?? ''}`);
-  }
-}
-
-table(
-  'FK + skeleton + 8 control-point Jacobians (J_θ, J_a, J_d)',
-  'kinematics',
-  () => Object.fromEntries(['lwr4', 'panda', 'dual-arm'].map((name) =>
-    [`kinematics_step/${name}`, wasmMedian((n) => sa.benchKinematicsStep(name, n), 2000, 15, 4000)])),
-  { 'kinematics_step/lwr4': 'native ≤ 2 µs, wasm/native ≤ 1.5' },
-  7,
-);
-
-table(
-  'full control step: lwr4 among N spheres (FK, skeleton, scene query, control points, transitions, Jacobians, controller)',
-  'control_step',
-  () => wasmControlStep(sa),
-  {
-    'control_step/lwr4/10': 'native ≤ 10 µs, wasm/native ≤ 1.5',
-    'control_step/lwr4/100': 'native ≤ 50 µs, wasm/native ≤ 1.5',
-    'control_step/lwr4/1000': 'native ≤ 330 µs, wasm/native ≤ 1.5',
-  },
-  5,
-);
+// The kinematics-step and control-step tables (bench-pairs.mjs), pinned to
+// one core.
+if (runPinned([path.join(repo, 'scripts', 'bench-pairs.mjs')]) !== 0) process.exit(1);
 
 // Dynamics per control step on the 7-DOF presets with inertial data:
 // Newton–Euler inverse dynamics and the mass matrix, natively (medians of

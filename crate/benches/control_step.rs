@@ -5,16 +5,32 @@
 //! articulated human walking past the arm (sixteen moving parts) to the ten
 //! spheres.
 //!
-//! `cargo bench --bench control_step` runs criterion. With `SA_BATCH_ROUND=1`
-//! it times one round of batches and prints `name median_ns_per_step` lines;
-//! `npm run bench` alternates such rounds with the same rounds in wasm
-//! (`benchControlStep`), so that the ratio is measured under the same load.
+//! `cargo bench --bench control_step` runs criterion. With `SA_BATCH_SERVE=1`
+//! it instead times batches on request (`common/serve.rs`): `npm run bench`
+//! times each one back to back with the same batch in wasm
+//! (`benchControlStep`, scripts/bench-pairs.mjs), so that the ratio is
+//! measured under the same load. Both sides keep their world from batch to
+//! batch and rewind it every 4000 steps, so that a pair times the same steps
+//! of the scene (a step costs more while the human passes the arm).
 
 use criterion::Criterion;
 use skeleton_avoidance::workloads::control_step_human_workload;
 use skeleton_avoidance::world::{World, control_step_workload};
 use std::hint::black_box;
-use std::time::Instant;
+
+#[path = "common/serve.rs"]
+mod serve;
+
+/// The workload named `id` (`control_step/lwr4/<N>` or
+/// `control_step/lwr4/human+10`) with its start and step count, for
+/// [`serve::serve`].
+fn served(id: &str) -> Option<(World, World, u32)> {
+    let world = match id.strip_prefix("control_step/lwr4/")? {
+        "human+10" => control_step_human_workload(10).ok()?,
+        n => control_step_workload(n.parse().ok()?).ok()?,
+    };
+    Some((world.clone(), world, 0))
+}
 
 const SIZES: [usize; 4] = [10, 20, 100, 1000];
 
@@ -53,50 +69,12 @@ fn criterion_benches(c: &mut Criterion) {
 /// Steps of the scripted scene before it is rewound (4 s at 1 kHz).
 const CYCLE: u32 = 4000;
 
-/// Median ns per step over 9 timed batches of `batch` steps, after one
-/// untimed cycle of the scene. The wasm rounds (`wasmControlStep` in
-/// scripts/bench-step-ab.mjs) warm up and time the same steps: the cost of
-/// a step varies along the scene, so both sides must time the same windows
-/// of it. The human row times whole cycles: its steps cost about 1.6 times
-/// more while the human passes close to the arm (twice per cycle) than
-/// while it is far, and the median of half-second batches fell on either
-/// side of that split from round to round.
-fn batch_median(world: &mut World, batch: u32) -> f64 {
-    let start = world.clone();
-    let mut steps = 0;
-    for _ in 0..CYCLE {
-        black_box(step(world, &start, &mut steps));
-    }
-    let mut per: Vec<f64> = (0..9)
-        .map(|_| {
-            let t = Instant::now();
-            for _ in 0..batch {
-                black_box(step(world, &start, &mut steps));
-            }
-            t.elapsed().as_nanos() as f64 / f64::from(batch)
-        })
-        .collect();
-    per.sort_by(f64::total_cmp);
-    per[per.len() / 2]
-}
-
 fn main() {
-    if std::env::var_os("SA_BATCH_ROUND").is_some() {
-        for n in [10, 100, 1000] {
-            let Ok(mut world) = control_step_workload(n) else {
-                continue;
-            };
-            let batch: u32 = if n >= 1000 { 100 } else { 500 };
-            println!(
-                "control_step/lwr4/{n} {:.1}",
-                batch_median(&mut world, batch)
-            );
-        }
-        if let Ok(mut world) = control_step_human_workload(10) {
-            println!(
-                "control_step/lwr4/human+10 {:.1}",
-                batch_median(&mut world, CYCLE)
-            );
+    if std::env::var_os("SA_BATCH_SERVE").is_some() {
+        let made = serve::serve(served, |(world, start, steps)| step(world, start, steps));
+        if let Err(e) = made {
+            eprintln!("control_step: serving batches failed: {e}");
+            std::process::exit(1);
         }
         return;
     }

@@ -256,8 +256,8 @@ pub fn skeleton_point(robot_spec: JsValue, q: JsValue, at: JsValue) -> Result<Js
 
 /// Runs the `KinematicsStep` benchmark workload (FK, skeleton, 8 control-point
 /// Jacobians) `iterations` times for preset `name` inside wasm; returns a
-/// checksum. Node times the call (`npm run bench`). Like the native batch
-/// rounds (`benches/kinematics.rs`) it builds the workload once and runs it
+/// checksum. Node times the call (`npm run bench`). Like the native bench's
+/// batches (`benches/kinematics.rs`) it builds the workload once and runs it
 /// on from call to call, so that a call's time holds only steps.
 #[wasm_bindgen(js_name = benchKinematicsStep)]
 pub fn bench_kinematics_step(name: JsValue, iterations: JsValue) -> Result<f64, JsError> {

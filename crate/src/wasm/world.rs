@@ -113,7 +113,7 @@ pub fn example_scenario_names() -> Vec<String> {
 /// Runs `iterations` control steps of the benchmark workload (`lwr4` among
 /// `obstacles` static spheres, default 20, at 1 kHz; with `human` true also
 /// an articulated human walking past the arm) and returns a checksum.
-/// Like the native batch rounds (`benches/control_step.rs`) it builds the
+/// Like the native bench's batches (`benches/control_step.rs`) it builds the
 /// workload once and steps it on from call to call, rewound every 4000 steps.
 ///
 /// # Errors
